@@ -1,0 +1,13 @@
+//! Fractum: a discrete element solver for brittle fracture.
+//!
+//! A run is described by a scene file ([`scene::Scene`]); [`simulation::Simulation`] builds
+//! the sample, the force pipeline of exactly the effects the scene names
+//! ([`effects::Pipeline`]), the loading and the probes, and steps them;
+//! [`driver::run_to_end`] writes series.csv, summary.json, VTK snapshots and checkpoints.
+//! SI units throughout. See docs/architecture.md for the map of the code.
+
+pub mod error;
+pub mod scene;
+
+pub use error::{Error, Result};
+pub use scene::Scene;

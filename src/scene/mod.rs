@@ -1,0 +1,420 @@
+//! The scene file: what to simulate, in TOML, SI units throughout.
+//!
+//! `docs/scenes.md` documents every key with its unit and allowed range. Loading goes
+//! text -> TOML table -> `--set` overrides -> typed [`Scene`] (unknown keys rejected) ->
+//! range checks ([`validate`]). Every failure is one sentence naming the file and the key.
+
+mod overrides;
+mod parse;
+mod validate;
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+
+pub use overrides::apply_override;
+
+/// A complete scene, as read from a file and checked.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scene {
+    /// Name of the run, echoed in outputs.
+    pub name: String,
+    /// Seed of every random choice (sample generation, later fracture statistics).
+    #[serde(default = "default_seed")]
+    pub seed: u64,
+    pub material: Material,
+    pub sample: SampleSpec,
+    #[serde(default)]
+    pub model: ModelSpec,
+    /// The effects that build the force pipeline; nothing else is constructed.
+    #[serde(default)]
+    pub effects: Vec<EffectKind>,
+    pub loading: LoadingSpec,
+    #[serde(default)]
+    pub time: TimeSpec,
+    #[serde(default)]
+    pub output: OutputSpec,
+    #[serde(default)]
+    pub gravity: GravitySpec,
+    #[serde(default)]
+    pub neighbor: NeighborSpec,
+    #[serde(default)]
+    pub walls: WallSpec,
+    /// Where the scene came from (for messages and relative paths); not a key.
+    #[serde(skip)]
+    pub source: SceneSource,
+}
+
+fn default_seed() -> u64 {
+    1
+}
+
+/// Where a scene came from: the file label used in messages and the folder that relative
+/// paths in the scene (such as `sample.file`) are resolved against.
+#[derive(Debug, Clone, Default)]
+pub struct SceneSource {
+    pub label: String,
+    pub dir: PathBuf,
+    /// The keys given with `--set`, to say so in messages.
+    pub overridden: Vec<String>,
+    /// The scene text and the `--set` overrides as given: a checkpoint stores them to rebuild
+    /// the very same scene.
+    pub text: String,
+    pub overrides: Vec<String>,
+}
+
+/// Elastic and contact properties of the grains (and of the walls, which share them).
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus E (Pa), > 0.
+    pub young: f64,
+    /// Poisson's ratio ν, in (-1, 0.5).
+    pub poisson: f64,
+    /// Density ρ (kg/m³), > 0.
+    pub density: f64,
+    /// Coulomb friction coefficient μ, ≥ 0 (used by the `friction` effect).
+    #[serde(default)]
+    pub friction: f64,
+    /// Normal coefficient of restitution e, in (0, 1] (used by the `damping` effect).
+    #[serde(default = "one")]
+    pub restitution: f64,
+}
+
+fn one() -> f64 {
+    1.0
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleKind {
+    /// Random polydisperse packing in a box.
+    Random,
+    /// Simple cubic lattice of equal spheres.
+    SimpleCubic,
+    /// Hexagonal close packed lattice of equal spheres.
+    Hcp,
+    /// A text packing: `x y z r` per line (m).
+    Text,
+    /// A LAMMPS data file, atom_style sphere.
+    LammpsData,
+}
+
+impl SampleKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SampleKind::Random => "random",
+            SampleKind::SimpleCubic => "simple_cubic",
+            SampleKind::Hcp => "hcp",
+            SampleKind::Text => "text",
+            SampleKind::LammpsData => "lammps_data",
+        }
+    }
+}
+
+/// How the sample is made. Which keys apply depends on `kind`; see docs/scenes.md.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SampleSpec {
+    pub kind: SampleKind,
+    /// Number of spheres (random packings).
+    pub count: Option<usize>,
+    /// Mean radius (m) of the truncated normal radius distribution, or the lattice radius.
+    pub radius_mean: Option<f64>,
+    /// Standard deviation of the radius (m); 0 or absent: monodisperse.
+    pub radius_sd: Option<f64>,
+    /// Smallest radius (m) the truncated normal may give.
+    pub radius_min: Option<f64>,
+    /// Largest radius (m) the truncated normal may give.
+    pub radius_max: Option<f64>,
+    /// Box edge lengths [x, y, z] (m).
+    #[serde(rename = "box")]
+    pub box_size: Option<[f64; 3]>,
+    /// Target solid fraction of the random packing (geometric packing, no overlaps).
+    pub solid_fraction: Option<f64>,
+    /// Confining pressure (Pa): after the geometric packing, servo-controlled walls compress
+    /// the sample until every wall carries this stress.
+    pub pressure: Option<f64>,
+    /// Friction coefficient while compacting to `pressure` (default: material.friction).
+    pub compaction_friction: Option<f64>,
+    /// Lattice layers [nx, ny, nz] (simple_cubic, hcp).
+    pub layers: Option<[usize; 3]>,
+    /// Packing file (text, lammps_data), relative to the scene file.
+    pub file: Option<String>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ModelKind {
+    /// Spheres (and, with fracture, poly-ellipsoids) with Hertz–Mindlin contacts.
+    #[default]
+    Granular,
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModelSpec {
+    #[serde(default)]
+    pub kind: ModelKind,
+}
+
+/// One entry of the scene's `effects` list.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum EffectKind {
+    /// Hertz normal contact force between grains and with walls.
+    Contact,
+    /// Viscous normal (and tangential) damping mapped from `material.restitution`.
+    Damping,
+    /// Mindlin tangential force with contact history and the Coulomb limit.
+    Friction,
+    /// Body force m·g.
+    Gravity,
+}
+
+impl EffectKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            EffectKind::Contact => "contact",
+            EffectKind::Damping => "damping",
+            EffectKind::Friction => "friction",
+            EffectKind::Gravity => "gravity",
+        }
+    }
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LoadingKind {
+    /// Walls stay where the sample put them; the run lasts `end_time`.
+    None,
+    /// Oedometric compression: the top (+z) wall moves down at a constant strain rate, the
+    /// other five walls are fixed.
+    Oedometer,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadingSpec {
+    pub kind: LoadingKind,
+    /// Axial engineering strain rate (1/s), > 0: the driven wall moves at rate × initial height.
+    pub strain_rate: Option<f64>,
+    /// Axial strain at which the run ends, in (0, 1).
+    pub end_strain: Option<f64>,
+    /// Duration of the run (s) for `kind = "none"`.
+    pub end_time: Option<f64>,
+}
+
+/// The time step: a number of seconds, or "auto" for the Rayleigh critical step × safety.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum DtSpec {
+    #[default]
+    Auto,
+    Seconds(f64),
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum IntegratorKind {
+    #[default]
+    VelocityVerlet,
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TimeSpec {
+    #[serde(default)]
+    pub dt: DtSpec,
+    /// Fraction of the Rayleigh critical time step used when `dt = "auto"`, in (0, 1].
+    #[serde(default = "default_safety")]
+    pub safety: f64,
+    #[serde(default)]
+    pub integrator: IntegratorKind,
+}
+
+fn default_safety() -> f64 {
+    0.2
+}
+
+impl Default for TimeSpec {
+    fn default() -> Self {
+        TimeSpec {
+            dt: DtSpec::Auto,
+            safety: default_safety(),
+            integrator: IntegratorKind::VelocityVerlet,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct OutputSpec {
+    /// Steps between rows of series.csv, ≥ 1.
+    #[serde(default = "default_every")]
+    pub every: u64,
+    /// Steps between VTK snapshots; 0 writes none.
+    #[serde(default)]
+    pub vtk: u64,
+}
+
+fn default_every() -> u64 {
+    100
+}
+
+impl Default for OutputSpec {
+    fn default() -> Self {
+        OutputSpec {
+            every: default_every(),
+            vtk: 0,
+        }
+    }
+}
+
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GravitySpec {
+    /// Gravitational acceleration (m/s²), used by the `gravity` effect.
+    #[serde(default = "default_g")]
+    pub acceleration: [f64; 3],
+}
+
+fn default_g() -> [f64; 3] {
+    [0.0, 0.0, -9.81]
+}
+
+impl Default for GravitySpec {
+    fn default() -> Self {
+        GravitySpec {
+            acceleration: default_g(),
+        }
+    }
+}
+
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NeighborSpec {
+    /// Verlet skin (m) of the neighbour list; default 0.4 × the smallest radius.
+    pub skin: Option<f64>,
+}
+
+/// The walls of the container (same elastic material as the grains).
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallSpec {
+    /// Coulomb friction between grains and walls (default: material.friction); 0 models
+    /// lubricated walls.
+    pub friction: Option<f64>,
+}
+
+impl Scene {
+    /// Reads, overrides and checks a scene file. `overrides` are `KEY=VALUE` strings as
+    /// given to `--set`.
+    pub fn load(path: &Path, overrides: &[String]) -> Result<Scene> {
+        let label = path.display().to_string();
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            Error::input(
+                &label,
+                format!("cannot read the scene file ({})", io_reason(&e)),
+            )
+        })?;
+        let dir = path
+            .parent()
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|| PathBuf::from("."));
+        Scene::from_toml(&text, &label, &dir, overrides)
+    }
+
+    /// Parses scene text. `label` names it in messages; relative paths resolve against `dir`.
+    pub fn from_toml(text: &str, label: &str, dir: &Path, overrides: &[String]) -> Result<Scene> {
+        let mut scene = parse::parse(text, label, overrides)?;
+        scene.source = SceneSource {
+            label: label.to_string(),
+            dir: dir.to_path_buf(),
+            overridden: overrides
+                .iter()
+                .filter_map(|o| o.split_once('=').map(|(k, _)| k.trim().to_string()))
+                .collect(),
+            text: text.to_string(),
+            overrides: overrides.to_vec(),
+        };
+        validate::validate(&scene)?;
+        Ok(scene)
+    }
+
+    /// An input error about `key` of this scene, one sentence.
+    pub fn key_error(&self, key: &str, message: impl AsRef<str>) -> Error {
+        let via = if self.source.overridden.iter().any(|k| k == key) {
+            " (set with --set)"
+        } else {
+            ""
+        };
+        Error::input(
+            &self.source.label,
+            format!("{key}{via} {}", message.as_ref()),
+        )
+    }
+
+    /// Resolves a path given in the scene relative to the scene file's folder.
+    pub fn resolve(&self, path: &str) -> PathBuf {
+        let p = Path::new(path);
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            self.source.dir.join(p)
+        }
+    }
+
+    pub fn has_effect(&self, effect: EffectKind) -> bool {
+        self.effects.contains(&effect)
+    }
+}
+
+/// The short reason of an I/O error, without the "(os error 2)" noise.
+pub(crate) fn io_reason(e: &std::io::Error) -> String {
+    match e.kind() {
+        std::io::ErrorKind::NotFound => "no such file".to_string(),
+        std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
+        _ => e.to_string(),
+    }
+}
+
+impl Serialize for DtSpec {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        match self {
+            DtSpec::Auto => s.serialize_str("auto"),
+            DtSpec::Seconds(v) => s.serialize_f64(*v),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for DtSpec {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = DtSpec;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("\"auto\" or a time step in seconds")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> std::result::Result<DtSpec, E> {
+                if v == "auto" {
+                    Ok(DtSpec::Auto)
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
+                }
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> std::result::Result<DtSpec, E> {
+                Ok(DtSpec::Seconds(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<DtSpec, E> {
+                Ok(DtSpec::Seconds(v as f64))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<DtSpec, E> {
+                Ok(DtSpec::Seconds(v as f64))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
