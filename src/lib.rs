@@ -6,8 +6,13 @@
 //! [`driver::run_to_end`] writes series.csv, summary.json, VTK snapshots and checkpoints.
 //! SI units throughout. See docs/architecture.md for the map of the code.
 
+pub mod contact;
+pub mod effects;
 pub mod error;
+pub mod integrate;
 pub mod scene;
+pub mod shape;
+pub mod state;
 
 pub use error::{Error, Result};
 pub use scene::Scene;

@@ -1,0 +1,244 @@
+//! Hertz–Mindlin contact between elastic spheres (and between a sphere and a rigid wall of
+//! the same material), with optional viscous damping and Coulomb friction.
+//!
+//! Conventions (as LAMMPS `pair_style granular`): `n` is the unit normal pointing from body j
+//! to body i, `δ > 0` the overlap, `v` the velocity of i's contact point relative to j's.
+//! The returned force acts on i; j receives its opposite.
+//!
+//! * Normal (Hertz): `F_e = 4/3 E* sqrt(R*) δ^(3/2)`, `E* = E / (2 (1 - ν²))` for two bodies
+//!   of one material, `R* = R_i R_j / (R_i + R_j)` (`R*` = R for a wall).
+//! * Damping: `F_d = -c sqrt(m* S_n) v_n` with `S_n = 2 E* a`, `a = sqrt(R* δ)` the contact
+//!   radius, and `c` from the coefficient of restitution ([`super::restitution`]). The total
+//!   normal force is clamped at zero: a cohesionless contact never pulls.
+//! * Tangential (Mindlin, no-slip stiffness `k_t = 8 G* a`, `G* = G / (2 (2 - ν))`): the
+//!   elastic tangential displacement ξ is kept per contact, turned onto the current tangent
+//!   plane with its length kept, and advanced by `v_t dt`; `F_t = -k_t ξ - c sqrt(m* S_n) v_t`
+//!   (tangential damping equal to the normal one). When `|F_t| > μ F_n` the force is scaled to
+//!   `μ F_n` and ξ reset to match it (Coulomb limit).
+
+use std::cell::Cell;
+
+use crate::state::Vec3;
+
+/// Material constants of a Hertz contact (one material against itself).
+#[derive(Debug, Clone, Copy)]
+pub struct Hertz {
+    /// Effective modulus E* (Pa).
+    pub e_eff: f64,
+}
+
+impl Hertz {
+    pub fn new(young: f64, poisson: f64) -> Self {
+        Hertz {
+            e_eff: young / (2.0 * (1.0 - poisson * poisson)),
+        }
+    }
+}
+
+/// Viscous normal damping `-c sqrt(m* S_n) v_n`.
+#[derive(Debug, Clone, Copy)]
+pub struct ViscousDamping {
+    pub restitution: f64,
+    /// The dimensionless coefficient c.
+    pub coefficient: f64,
+}
+
+impl ViscousDamping {
+    pub fn from_restitution(e: f64) -> Self {
+        ViscousDamping {
+            restitution: e,
+            coefficient: super::restitution::damping_for_restitution(e),
+        }
+    }
+}
+
+thread_local! {
+    static MINDLIN_BUILT: Cell<usize> = const { Cell::new(0) };
+}
+
+/// How many Mindlin tangential models this thread has constructed (tests use it to show that
+/// a scene without `friction` never builds one).
+pub fn mindlin_models_built() -> usize {
+    MINDLIN_BUILT.with(|c| c.get())
+}
+
+/// Mindlin tangential model with the Coulomb limit.
+#[derive(Debug, Clone, Copy)]
+pub struct Mindlin {
+    /// Effective shear modulus G* (Pa).
+    pub g_eff: f64,
+    /// Coulomb friction coefficient μ.
+    pub mu: f64,
+}
+
+impl Mindlin {
+    pub fn new(young: f64, poisson: f64, mu: f64) -> Self {
+        MINDLIN_BUILT.with(|c| c.set(c.get() + 1));
+        let g = young / (2.0 * (1.0 + poisson));
+        Mindlin {
+            g_eff: g / (2.0 * (2.0 - poisson)),
+            mu,
+        }
+    }
+}
+
+/// The constants the force kernel reads, folded once. Absent sub-models leave zeros that the
+/// kernel never reads (its const parameters switch them off at compile time).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct KernelConsts {
+    four_thirds_e: f64,
+    two_e: f64,
+    damping: f64,
+    eight_g: f64,
+    mu: f64,
+}
+
+impl KernelConsts {
+    pub fn new(hertz: &Hertz, damping: Option<&ViscousDamping>, mindlin: Option<&Mindlin>) -> Self {
+        KernelConsts {
+            four_thirds_e: 4.0 / 3.0 * hertz.e_eff,
+            two_e: 2.0 * hertz.e_eff,
+            damping: damping.map_or(0.0, |d| d.coefficient),
+            eight_g: mindlin.map_or(0.0, |m| 8.0 * m.g_eff),
+            mu: mindlin.map_or(0.0, |m| m.mu),
+        }
+    }
+}
+
+/// Result of one contact: the force on body i (N) and the normal contact stiffness
+/// `dF_e/dδ = 2 E* a` (N/m).
+#[derive(Debug, Clone, Copy)]
+pub struct ContactForce {
+    pub force: Vec3,
+    pub stiffness: f64,
+}
+
+/// The Hertz–Mindlin force on body i for overlap `delta > 0` along `n`.
+///
+/// `v` is the velocity of i's contact point relative to j's; `hist` the tangential
+/// displacement of this contact (unused without friction); `update` is false only for the
+/// force evaluation before the first step, which must not advance the history.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn hertz_mindlin<const DAMP: bool, const FRIC: bool>(
+    k: &KernelConsts,
+    n: &Vec3,
+    delta: f64,
+    r_eff: f64,
+    m_eff: f64,
+    v: &Vec3,
+    hist: &mut Vec3,
+    dt: f64,
+    update: bool,
+) -> ContactForce {
+    let a = (r_eff * delta).sqrt();
+    let vn = v.dot(n);
+    let mut fn_total = k.four_thirds_e * a * delta;
+    let mut eta = 0.0;
+    if DAMP {
+        eta = k.damping * (m_eff * k.two_e * a).sqrt();
+        fn_total -= eta * vn;
+        fn_total = fn_total.max(0.0);
+    }
+    let mut force = n * fn_total;
+    if FRIC {
+        let vt = v - n * vn;
+        if update {
+            let along_n = hist.dot(n);
+            if along_n != 0.0 {
+                let len = hist.norm();
+                *hist -= n * along_n;
+                let projected = hist.norm();
+                if projected > 0.0 {
+                    *hist *= len / projected;
+                }
+            }
+            *hist += vt * dt;
+        }
+        let kt = k.eight_g * a;
+        let mut ft = *hist * (-kt);
+        if DAMP {
+            ft -= vt * eta;
+        }
+        let limit = k.mu * fn_total;
+        let ft2 = ft.norm_squared();
+        if ft2 > limit * limit {
+            if hist.norm_squared() > 0.0 {
+                ft *= limit / ft2.sqrt();
+                // Keep the elastic part of the limited force as the new displacement.
+                let elastic = if DAMP { ft + vt * eta } else { ft };
+                *hist = elastic * (-1.0 / kt);
+            } else {
+                ft = Vec3::zeros();
+            }
+        }
+        force += ft;
+    }
+    ContactForce {
+        force,
+        stiffness: k.two_e * a,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn consts(mu: f64, c: f64) -> KernelConsts {
+        let h = Hertz::new(60e9, 0.17);
+        let d = ViscousDamping {
+            restitution: 0.5,
+            coefficient: c,
+        };
+        let m = Mindlin::new(60e9, 0.17, mu);
+        KernelConsts::new(&h, Some(&d), Some(&m))
+    }
+
+    #[test]
+    fn hertz_normal_force_matches_closed_form() {
+        let k = consts(0.5, 0.0);
+        let (r, delta) = (0.15e-3, 1e-6);
+        let mut h = Vec3::zeros();
+        let f = hertz_mindlin::<false, false>(
+            &k,
+            &Vec3::z(),
+            delta,
+            r,
+            1.0,
+            &Vec3::zeros(),
+            &mut h,
+            1e-8,
+            true,
+        );
+        let e_eff = 60e9 / (2.0 * (1.0 - 0.17 * 0.17));
+        let expected = 4.0 / 3.0 * e_eff * r.sqrt() * delta.powf(1.5);
+        assert!((f.force.z - expected).abs() < 1e-12 * expected);
+        assert!((f.stiffness - 2.0 * e_eff * (r * delta).sqrt()).abs() < 1e-6);
+    }
+
+    #[test]
+    fn tangential_force_saturates_at_coulomb_limit() {
+        let k = consts(0.3, 0.0);
+        let mut h = Vec3::zeros();
+        let v = Vec3::new(1.0, 0.0, 0.0);
+        let mut last = Vec3::zeros();
+        for _ in 0..10_000 {
+            last = hertz_mindlin::<false, true>(
+                &k,
+                &Vec3::z(),
+                1e-6,
+                0.15e-3,
+                1e-7,
+                &v,
+                &mut h,
+                1e-8,
+                true,
+            )
+            .force;
+        }
+        let fnorm = last.z;
+        let ft = (last.x * last.x + last.y * last.y).sqrt();
+        assert!((ft - 0.3 * fnorm).abs() < 1e-12 * fnorm);
+        assert!(last.x < 0.0, "friction opposes the slip");
+    }
+}

@@ -1,0 +1,9 @@
+//! Contact detection and contact laws.
+//!
+//! * [`neighbor`]: broad phase (cell list, Verlet half list, wall candidate lists).
+//! * [`hertz_mindlin`]: the Hertz–Mindlin force kernel with optional damping and friction.
+//! * [`restitution`]: the exact map from a coefficient of restitution to Hertz damping.
+
+pub mod hertz_mindlin;
+pub mod neighbor;
+pub mod restitution;

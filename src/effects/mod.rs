@@ -1,0 +1,135 @@
+//! The force pipeline: the effects a scene names, in a fixed order, and nothing else.
+//!
+//! An effect that a scene does not list is never constructed: no allocation, no loop, no
+//! branch in the hot path. The contact effect is monomorphised over its optional sub-models
+//! (damping, friction), so a frictionless scene runs a kernel with no tangential code in it
+//! and keeps no contact history.
+
+pub mod contact;
+pub mod gravity;
+
+use crate::error::{Error, Result};
+use crate::scene::{EffectKind, Scene};
+use crate::state::{Bodies, Forces, Walls};
+
+pub use contact::{ContactParams, build_contact};
+pub use gravity::Gravity;
+
+/// What an effect needs to know about the step being taken.
+#[derive(Debug, Clone, Copy)]
+pub struct StepContext {
+    /// Time step (s).
+    pub dt: f64,
+    /// False only for the force evaluation before the first step: contact histories must not
+    /// advance then.
+    pub update_history: bool,
+}
+
+/// One term of the force pipeline.
+pub trait Effect: Send {
+    /// The scene name of the effect (as in `effects = [...]`).
+    fn name(&self) -> &'static str;
+    /// One line for `fractum explain`: the model and its constants.
+    fn describe(&self) -> String;
+    /// Adds this effect's forces and torques.
+    fn accumulate(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &Bodies,
+        walls: &mut Walls,
+        forces: &mut Forces,
+    );
+    /// Body–body contacts active in the last evaluation.
+    fn contacts(&self) -> usize {
+        0
+    }
+    /// Persistent state (contact histories) for checkpoints; empty when there is none.
+    fn save(&self) -> Vec<u8> {
+        Vec::new()
+    }
+    /// Restores what [`Effect::save`] wrote.
+    fn restore(&mut self, _data: &[u8]) -> Result<()> {
+        Ok(())
+    }
+    /// Length of the contact history this effect keeps (0 when it keeps none).
+    fn history_len(&self) -> usize {
+        0
+    }
+}
+
+/// The effects of a scene in evaluation order.
+pub struct Pipeline {
+    pub effects: Vec<Box<dyn Effect>>,
+}
+
+impl Pipeline {
+    /// Builds exactly the effects the scene lists. The order of evaluation is fixed
+    /// (contact, then body forces), whatever the order of the list.
+    pub fn build(scene: &Scene) -> Result<Pipeline> {
+        let mut effects: Vec<Box<dyn Effect>> = Vec::new();
+        if scene.has_effect(EffectKind::Contact) {
+            effects.push(build_contact(ContactParams::from_scene(scene, None)));
+        }
+        if scene.has_effect(EffectKind::Gravity) {
+            effects.push(Box::new(Gravity::new(scene.gravity.acceleration.into())));
+        }
+        Ok(Pipeline { effects })
+    }
+
+    pub fn accumulate(
+        &mut self,
+        ctx: &StepContext,
+        bodies: &Bodies,
+        walls: &mut Walls,
+        forces: &mut Forces,
+    ) {
+        for e in &mut self.effects {
+            e.accumulate(ctx, bodies, walls, forces);
+        }
+    }
+
+    /// One line per effect, in evaluation order.
+    pub fn describe(&self) -> Vec<String> {
+        self.effects
+            .iter()
+            .map(|e| format!("{}: {}", e.name(), e.describe()))
+            .collect()
+    }
+
+    pub fn names(&self) -> Vec<&'static str> {
+        self.effects.iter().map(|e| e.name()).collect()
+    }
+
+    pub fn contacts(&self) -> usize {
+        self.effects.iter().map(|e| e.contacts()).sum()
+    }
+
+    pub fn history_len(&self) -> usize {
+        self.effects.iter().map(|e| e.history_len()).sum()
+    }
+
+    pub fn save(&self) -> Vec<(String, Vec<u8>)> {
+        self.effects
+            .iter()
+            .map(|e| (e.name().to_string(), e.save()))
+            .collect()
+    }
+
+    pub fn restore(&mut self, saved: &[(String, Vec<u8>)]) -> Result<()> {
+        if saved.len() != self.effects.len() {
+            return Err(Error::run(
+                "the checkpoint's force pipeline does not match its scene",
+            ));
+        }
+        for (e, (name, data)) in self.effects.iter_mut().zip(saved) {
+            if e.name() != name {
+                return Err(Error::run(format!(
+                    "the checkpoint has effect `{name}` where the scene builds `{}`",
+                    e.name()
+                )));
+            }
+            e.restore(data)?;
+        }
+        Ok(())
+    }
+}

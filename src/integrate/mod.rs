@@ -1,0 +1,25 @@
+//! Time integration and the critical time step.
+
+mod velocity_verlet;
+
+pub use velocity_verlet::VelocityVerlet;
+
+/// Rayleigh critical time step (s) of a sphere of radius `r` (m):
+/// `π r sqrt(ρ / G) / (0.1631 ν + 0.8766)`, the time a Rayleigh wave takes to cross it.
+pub fn rayleigh_time_step(r: f64, density: f64, young: f64, poisson: f64) -> f64 {
+    let g = young / (2.0 * (1.0 + poisson));
+    std::f64::consts::PI * r * (density / g).sqrt() / (0.1631 * poisson + 0.8766)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rayleigh_step_of_quartz_grain() {
+        // r = 0.3 mm, E = 60 GPa, nu = 0.17, rho = 2650: G = 25.64 GPa,
+        // pi * 3e-4 * sqrt(2650 / 2.564e10) / 0.904327 = 3.3503e-7 s.
+        let dt = rayleigh_time_step(0.3e-3, 2650.0, 60e9, 0.17);
+        assert!((dt - 3.3503e-7).abs() < 1e-10, "{dt}");
+    }
+}

@@ -1,0 +1,155 @@
+//! The state of a run: bodies as structure-of-arrays, walls, and the forces of the last step.
+//! Everything here is plain data, serialisable for checkpoints.
+
+mod walls;
+
+use nalgebra::{UnitQuaternion, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::shape::{self, Shape};
+
+pub use walls::{BoxFace, Wall, Walls};
+
+pub type Vec3 = Vector3<f64>;
+
+/// Rigid bodies, one entry per body in every array.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Bodies {
+    /// Centre of mass (m).
+    pub pos: Vec<Vec3>,
+    /// Velocity (m/s).
+    pub vel: Vec<Vec3>,
+    /// Angular velocity in the world frame (rad/s).
+    pub omega: Vec<Vec3>,
+    /// Orientation, body to world.
+    pub orientation: Vec<UnitQuaternion<f64>>,
+    /// Bounding radius (m); the radius of a sphere.
+    pub radius: Vec<f64>,
+    /// Mass (kg).
+    pub mass: Vec<f64>,
+    pub inv_mass: Vec<f64>,
+    /// Principal moments of inertia in the body frame (kg·m²).
+    pub inertia: Vec<Vec3>,
+    pub inv_inertia: Vec<Vec3>,
+    pub shape: Vec<Shape>,
+}
+
+impl Bodies {
+    pub fn len(&self) -> usize {
+        self.pos.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.pos.is_empty()
+    }
+
+    /// Adds a sphere at rest.
+    pub fn push_sphere(
+        &mut self,
+        pos: Vec3,
+        radius: f64,
+        density: f64,
+        orientation: UnitQuaternion<f64>,
+    ) {
+        let m = shape::sphere_mass(radius, density);
+        let i = shape::sphere_inertia(m, radius);
+        self.pos.push(pos);
+        self.vel.push(Vec3::zeros());
+        self.omega.push(Vec3::zeros());
+        self.orientation.push(orientation);
+        self.radius.push(radius);
+        self.mass.push(m);
+        self.inv_mass.push(1.0 / m);
+        self.inertia.push(Vec3::repeat(i));
+        self.inv_inertia.push(Vec3::repeat(1.0 / i));
+        self.shape.push(Shape::Sphere);
+    }
+
+    /// Total kinetic energy, translational and rotational (J), summed in index order.
+    pub fn kinetic_energy(&self) -> f64 {
+        let mut e = 0.0;
+        for i in 0..self.len() {
+            e += 0.5 * self.mass[i] * self.vel[i].norm_squared();
+            let w = self.orientation[i].inverse_transform_vector(&self.omega[i]);
+            e += 0.5 * w.component_mul(&w).dot(&self.inertia[i]);
+        }
+        e
+    }
+
+    /// Total solid volume (m³) of the spheres.
+    pub fn solid_volume(&self) -> f64 {
+        self.radius.iter().map(|&r| shape::sphere_volume(r)).sum()
+    }
+
+    pub fn min_radius(&self) -> f64 {
+        self.radius.iter().copied().fold(f64::INFINITY, f64::min)
+    }
+
+    pub fn max_radius(&self) -> f64 {
+        self.radius.iter().copied().fold(0.0, f64::max)
+    }
+
+    /// Puts the bodies in the order `order` (a permutation: new index k holds old `order[k]`).
+    pub fn reorder(&mut self, order: &[usize]) {
+        fn take<T: Clone>(v: &mut Vec<T>, order: &[usize]) {
+            *v = order.iter().map(|&k| v[k].clone()).collect();
+        }
+        take(&mut self.pos, order);
+        take(&mut self.vel, order);
+        take(&mut self.omega, order);
+        take(&mut self.orientation, order);
+        take(&mut self.radius, order);
+        take(&mut self.mass, order);
+        take(&mut self.inv_mass, order);
+        take(&mut self.inertia, order);
+        take(&mut self.inv_inertia, order);
+        take(&mut self.shape, order);
+    }
+
+    /// An order of the bodies by cells of edge `cell`, slab by slab along z, then y, then x:
+    /// neighbours get nearby indices, which keeps the force loop in cache and each thread's
+    /// range of partners narrow.
+    pub fn spatial_order(&self, cell: f64) -> Vec<usize> {
+        let mut lo = Vec3::repeat(f64::INFINITY);
+        for p in &self.pos {
+            lo = lo.inf(p);
+        }
+        let key = |p: &Vec3| {
+            let c = (p - lo) / cell;
+            (c.z as u64, c.y as u64, c.x as u64)
+        };
+        let mut order: Vec<usize> = (0..self.len()).collect();
+        order.sort_by_key(|&i| key(&self.pos[i]));
+        order
+    }
+
+    /// The first body with a non-finite position or velocity, if any.
+    pub fn first_non_finite(&self) -> Option<usize> {
+        (0..self.len()).find(|&i| {
+            !(self.pos[i].iter().all(|v| v.is_finite())
+                && self.vel[i].iter().all(|v| v.is_finite())
+                && self.omega[i].iter().all(|v| v.is_finite()))
+        })
+    }
+}
+
+/// Forces and torques on the bodies (N, N·m), world frame.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct Forces {
+    pub force: Vec<Vec3>,
+    pub torque: Vec<Vec3>,
+}
+
+impl Forces {
+    pub fn new(n: usize) -> Self {
+        Forces {
+            force: vec![Vec3::zeros(); n],
+            torque: vec![Vec3::zeros(); n],
+        }
+    }
+
+    pub fn clear(&mut self) {
+        self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
+        self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
+    }
+}
