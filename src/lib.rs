@@ -10,6 +10,7 @@ pub mod contact;
 pub mod effects;
 pub mod error;
 pub mod integrate;
+pub mod sample;
 pub mod scene;
 pub mod shape;
 pub mod state;

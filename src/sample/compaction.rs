@@ -1,0 +1,256 @@
+//! Dynamic compaction of a packing to an isotropic confining pressure.
+//!
+//! The three upper walls of the box are servo-controlled (the PFC servo): each step a wall
+//! moves by `α A (p - σ) / k`, where `σ` is the mean stress on the axis, `A` the face area and
+//! `k` the summed contact stiffness on the wall, so that a stiff packing is pushed gently and
+//! an empty wall advances at the largest allowed speed. Contacts are Hertz with strong viscous
+//! damping (restitution 0.3) and, if asked, friction; non-viscous local damping (Cundall)
+//! takes out the remaining kinetic energy.
+//!
+//! Servo phases (until every axis is within 1% of the target and the unbalanced force is below
+//! 1e-2: a compressed gas shows the target stress in passing) alternate with hold phases
+//! (walls fixed until the mean unbalanced force is below 1e-3 of the mean contact force):
+//! a soft, nearly isostatic packing only settles when its walls stop moving. Compaction ends
+//! when a settled packing carries the target within 5% on every axis. The bodies are then at
+//! rest and the walls fixed; contact histories are not kept, so the sample is just positions
+//! and radii, as a packing file would give it.
+
+use crate::contact::hertz_mindlin::{Hertz, Mindlin, ViscousDamping};
+use crate::effects::{ContactParams, StepContext, build_contact};
+use crate::error::{Error, Result};
+use crate::integrate::{VelocityVerlet, rayleigh_time_step};
+use crate::scene::Scene;
+use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
+
+#[derive(Debug, Clone, Copy)]
+pub struct CompactionReport {
+    pub steps: u64,
+    /// Mean stress on the x, y and z faces at the end (Pa).
+    pub stresses: [f64; 3],
+    /// Mean net force over mean contact force at the end.
+    pub unbalanced: f64,
+}
+
+/// Fraction of the stress error a wall corrects per step.
+/// Largest wall speed, as a strain per step.
+const MAX_STRAIN_PER_STEP: f64 = 5e-6;
+/// Fraction of the stress error a wall corrects per step.
+const SERVO_GAIN: f64 = 0.1;
+const LOCAL_DAMPING: f64 = 0.3;
+/// Servo phases end when every axis is this close to the target (relative)...
+const STRESS_TOLERANCE: f64 = 0.01;
+/// ...and compaction ends when the settled packing is this close and at rest.
+const SETTLED_STRESS_TOLERANCE: f64 = 0.05;
+/// Longest single phase.
+const PHASE_STEPS: u64 = 200_000;
+const UNBALANCED_TOLERANCE: f64 = 1e-3;
+const SERVO_UNBALANCED_TOLERANCE: f64 = 1e-2;
+const CHECK_EVERY: u64 = 200;
+const MAX_STEPS: u64 = 3_000_000;
+
+const AXES: [(BoxFace, BoxFace); 3] = [
+    (BoxFace::XMin, BoxFace::XMax),
+    (BoxFace::YMin, BoxFace::YMax),
+    (BoxFace::ZMin, BoxFace::ZMax),
+];
+
+/// Compresses the bodies in the box `walls` until every face carries `pressure` (Pa).
+pub fn compact_to_pressure(
+    bodies: &mut Bodies,
+    walls: &mut Walls,
+    scene: &Scene,
+    pressure: f64,
+    friction: f64,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<CompactionReport> {
+    let m = &scene.material;
+    let params = ContactParams {
+        hertz: Hertz::new(m.young, m.poisson),
+        damping: Some(ViscousDamping::from_restitution(0.3)),
+        mindlin: (friction > 0.0).then(|| Mindlin::new(m.young, m.poisson, friction)),
+        wall_friction: None,
+        skin: scene.neighbor.skin,
+    };
+    let dt = 0.2 * rayleigh_time_step(bodies.min_radius(), m.density, m.young, m.poisson);
+    let mut c = Compactor {
+        contact: build_contact(params),
+        vv: VelocityVerlet::default(),
+        forces: Forces::new(bodies.len()),
+        dt,
+        mean_r: bodies.radius.iter().sum::<f64>() / bodies.len() as f64,
+        pressure,
+        steps: 0,
+    };
+    let first = StepContext {
+        dt,
+        update_history: false,
+    };
+    c.contact.accumulate(&first, bodies, walls, &mut c.forces);
+    progress(&format!(
+        "compacting to {pressure:e} Pa (friction {friction}, time step {dt:.3e} s)"
+    ));
+    // Servo the walls onto the target, then hold them and let the packing settle; repeat until
+    // it settles on target. Holding the walls lets a soft (near-isostatic) packing find
+    // equilibrium, which a servo that keeps chasing the stress would not allow.
+    loop {
+        let servo = c.run(bodies, walls, Phase::Servo)?;
+        let settled = c.run(bodies, walls, Phase::Hold)?;
+        progress(&format!(
+            "compacting: step {}, stresses {:.4e} {:.4e} {:.4e} Pa, unbalanced {:.2e}",
+            c.steps,
+            settled.stresses[0],
+            settled.stresses[1],
+            settled.stresses[2],
+            settled.unbalanced
+        ));
+        let on_target = settled
+            .stresses
+            .iter()
+            .all(|s| (s - pressure).abs() < SETTLED_STRESS_TOLERANCE * pressure);
+        if on_target && settled.unbalanced < UNBALANCED_TOLERANCE {
+            for i in 0..bodies.len() {
+                bodies.vel[i] = Vec3::zeros();
+                bodies.omega[i] = Vec3::zeros();
+            }
+            for w in &mut walls.walls {
+                w.velocity = Vec3::zeros();
+            }
+            walls.clear_forces();
+            return Ok(settled);
+        }
+        if c.steps >= MAX_STEPS {
+            return Err(Error::run(format!(
+                "compaction to {pressure:e} Pa did not settle in {} steps (stresses {:?} Pa after the servo phase, {:?} Pa settled, unbalanced {:.2e})",
+                c.steps, servo.stresses, settled.stresses, settled.unbalanced
+            )));
+        }
+    }
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Phase {
+    /// Walls servo-controlled until every axis is within STRESS_TOLERANCE of the target and
+    /// the packing is near equilibrium (a compressed gas shows the target stress in passing).
+    Servo,
+    /// Walls fixed until the unbalanced force falls below UNBALANCED_TOLERANCE.
+    Hold,
+}
+
+struct Compactor {
+    contact: Box<dyn crate::effects::Effect>,
+    vv: VelocityVerlet,
+    forces: Forces,
+    dt: f64,
+    mean_r: f64,
+    pressure: f64,
+    steps: u64,
+}
+
+impl Compactor {
+    fn run(
+        &mut self,
+        bodies: &mut Bodies,
+        walls: &mut Walls,
+        phase: Phase,
+    ) -> Result<CompactionReport> {
+        let dt = self.dt;
+        let ctx = StepContext {
+            dt,
+            update_history: true,
+        };
+        let mut report = CompactionReport {
+            steps: 0,
+            stresses: [0.0; 3],
+            unbalanced: f64::INFINITY,
+        };
+        for k in 1..=PHASE_STEPS {
+            self.steps += 1;
+            let size = walls.box_size();
+            for (a, (lo, hi)) in AXES.iter().enumerate() {
+                let speed = if phase == Phase::Hold {
+                    0.0
+                } else {
+                    let sigma = 0.5 * (walls.face_stress(*lo) + walls.face_stress(*hi));
+                    let area = size[(a + 1) % 3] * size[(a + 2) % 3];
+                    let k = 0.5 * (walls.face(*lo).stiffness + walls.face(*hi).stiffness);
+                    let vmax = MAX_STRAIN_PER_STEP * size[a] / dt;
+                    if k > 0.0 {
+                        (SERVO_GAIN * area * (self.pressure - sigma) / (k * dt)).clamp(-vmax, vmax)
+                    } else {
+                        vmax
+                    }
+                };
+                let wall = walls.face_mut(*hi);
+                wall.velocity = wall.normal * speed;
+            }
+            self.vv.kick_drift(bodies, &self.forces, dt);
+            walls.advance(dt);
+            self.forces.clear();
+            walls.clear_forces();
+            self.contact
+                .accumulate(&ctx, bodies, walls, &mut self.forces);
+            let check = k % CHECK_EVERY == 0;
+            if check {
+                report = self.measure(bodies, walls);
+            }
+            local_damping(&mut self.forces, bodies);
+            self.vv.kick(bodies, &self.forces, dt);
+            if check {
+                if bodies.first_non_finite().is_some() {
+                    return Err(Error::run(
+                        "compaction became unstable (non-finite positions)",
+                    ));
+                }
+                let on_target = report
+                    .stresses
+                    .iter()
+                    .all(|s| (s - self.pressure).abs() < STRESS_TOLERANCE * self.pressure);
+                let done = match phase {
+                    Phase::Servo => on_target && report.unbalanced < SERVO_UNBALANCED_TOLERANCE,
+                    Phase::Hold => report.unbalanced < UNBALANCED_TOLERANCE,
+                };
+                if done {
+                    break;
+                }
+            }
+        }
+        Ok(report)
+    }
+
+    /// Mean stress per axis and the unbalanced force ratio: mean net force on a body over the
+    /// mean contact force, estimated from the pressure as `3 p V / (N_c 2 r̄)`.
+    fn measure(&self, bodies: &Bodies, walls: &Walls) -> CompactionReport {
+        let size = walls.box_size();
+        let volume = size.x * size.y * size.z;
+        let mut stresses = [0.0; 3];
+        for (a, (lo, hi)) in AXES.iter().enumerate() {
+            stresses[a] = 0.5 * (walls.face_stress(*lo) + walls.face_stress(*hi));
+        }
+        let contacts =
+            self.contact.contacts() + walls.walls.iter().map(|w| w.contacts).sum::<usize>();
+        let mean_contact =
+            3.0 * self.pressure * volume / (contacts.max(1) as f64 * 2.0 * self.mean_r);
+        let mean_net =
+            self.forces.force.iter().map(|f| f.norm()).sum::<f64>() / bodies.len() as f64;
+        CompactionReport {
+            steps: self.steps,
+            stresses,
+            unbalanced: mean_net / mean_contact,
+        }
+    }
+}
+
+/// Non-viscous local damping (Cundall): each force and torque component loses a fraction of
+/// its size against the motion.
+fn local_damping(forces: &mut Forces, bodies: &Bodies) {
+    for (f, v) in forces.force.iter_mut().zip(&bodies.vel) {
+        for a in 0..3 {
+            f[a] -= LOCAL_DAMPING * f[a].abs() * v[a].signum();
+        }
+    }
+    for (t, w) in forces.torque.iter_mut().zip(&bodies.omega) {
+        for a in 0..3 {
+            t[a] -= LOCAL_DAMPING * t[a].abs() * w[a].signum();
+        }
+    }
+}

@@ -1,0 +1,219 @@
+//! Packings read from files: plain text (`x y z r` per line) and LAMMPS data files
+//! (atom_style sphere). Lengths are in metres (LAMMPS `units si`).
+
+use std::path::Path;
+
+use crate::scene::io_reason;
+use crate::state::Vec3;
+
+/// Spheres read from a file, with the container bounds when the file gives them.
+#[derive(Debug, Default)]
+pub struct Packing {
+    pub spheres: Vec<(Vec3, f64)>,
+    pub bounds: Option<(Vec3, Vec3)>,
+    /// Initial velocities by sphere index, when the file gives them.
+    pub velocities: Vec<(usize, Vec3)>,
+}
+
+fn read(path: &Path) -> Result<String, String> {
+    std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read the packing file ({})", io_reason(&e)))
+}
+
+fn number(tok: &str, line: usize, what: &str) -> Result<f64, String> {
+    tok.parse::<f64>()
+        .ok()
+        .filter(|v| v.is_finite())
+        .ok_or_else(|| format!("line {line}: {what} `{tok}` is not a finite number"))
+}
+
+/// Reads `x y z r` per line (blank lines and `#` comments skipped). A comment
+/// `# box xlo ylo zlo xhi yhi zhi` sets the container; YADE's `x_y_z_r` export reads as is.
+pub fn read_text_packing(path: &Path) -> Result<Packing, String> {
+    let text = read(path)?;
+    let mut p = Packing::default();
+    for (k, line) in text.lines().enumerate() {
+        let ln = k + 1;
+        let line = line.trim();
+        if let Some(comment) = line.strip_prefix('#') {
+            let toks: Vec<&str> = comment.split_whitespace().collect();
+            if toks.first() == Some(&"box") && toks.len() == 7 {
+                let v: Vec<f64> = toks[1..]
+                    .iter()
+                    .map(|t| number(t, ln, "box bound"))
+                    .collect::<Result<_, _>>()?;
+                p.bounds = Some((Vec3::new(v[0], v[1], v[2]), Vec3::new(v[3], v[4], v[5])));
+            }
+            continue;
+        }
+        if line.is_empty() {
+            continue;
+        }
+        let toks: Vec<&str> = line.split_whitespace().collect();
+        if toks.len() < 4 {
+            return Err(format!(
+                "line {ln}: expected `x y z r`, found {} values",
+                toks.len()
+            ));
+        }
+        let x = number(toks[0], ln, "x")?;
+        let y = number(toks[1], ln, "y")?;
+        let z = number(toks[2], ln, "z")?;
+        let r = number(toks[3], ln, "r")?;
+        if r <= 0.0 {
+            return Err(format!(
+                "line {ln}: radius {r} is outside the allowed range (0, ∞) m"
+            ));
+        }
+        p.spheres.push((Vec3::new(x, y, z), r));
+    }
+    if p.spheres.is_empty() {
+        return Err("holds no spheres".to_string());
+    }
+    Ok(p)
+}
+
+/// Reads a LAMMPS data file with `atom_style sphere` atoms:
+/// `atom-ID atom-type diameter density x y z [ix iy iz]`, and the `Velocities` section
+/// (`atom-ID vx vy vz wx wy wz`) when present. Atoms are ordered by ID; the box comes from the
+/// `xlo xhi` / `ylo yhi` / `zlo zhi` header lines.
+pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
+    let text = read(path)?;
+    let lines: Vec<&str> = text.lines().collect();
+    let mut natoms = None;
+    let mut lo = [None; 3];
+    let mut hi = [None; 3];
+    let mut atoms: Vec<(u64, Vec3, f64)> = Vec::new();
+    let mut vels: Vec<(u64, Vec3)> = Vec::new();
+    let strip = |l: &str| l.split('#').next().unwrap_or("").trim().to_string();
+    let mut k = 1; // the first line is a title
+    while k < lines.len() {
+        let line = strip(lines[k]);
+        let toks: Vec<&str> = line.split_whitespace().collect();
+        if toks.len() == 2 && toks[1] == "atoms" {
+            natoms = Some(toks[0].parse::<usize>().map_err(|_| {
+                format!("line {}: atom count `{}` is not an integer", k + 1, toks[0])
+            })?);
+        }
+        for (a, (l, h)) in [("xlo", "xhi"), ("ylo", "yhi"), ("zlo", "zhi")]
+            .iter()
+            .enumerate()
+        {
+            if toks.len() == 4 && toks[2] == *l && toks[3] == *h {
+                lo[a] = Some(number(toks[0], k + 1, l)?);
+                hi[a] = Some(number(toks[1], k + 1, h)?);
+            }
+        }
+        let section = toks.first().copied().unwrap_or("");
+        if section == "Atoms" || section == "Velocities" {
+            let n = natoms
+                .ok_or_else(|| format!("line {}: `{section}` before the `atoms` count", k + 1))?;
+            let mut read_rows = 0;
+            k += 1;
+            while k < lines.len() && read_rows < n {
+                let row = strip(lines[k]);
+                k += 1;
+                if row.is_empty() {
+                    continue;
+                }
+                let t: Vec<&str> = row.split_whitespace().collect();
+                let ln = k;
+                let id = t[0]
+                    .parse::<u64>()
+                    .map_err(|_| format!("line {ln}: atom ID `{}` is not an integer", t[0]))?;
+                if section == "Atoms" {
+                    if t.len() < 7 {
+                        return Err(format!(
+                            "line {ln}: expected `atom-ID atom-type diameter density x y z` (atom_style sphere), found {} values",
+                            t.len()
+                        ));
+                    }
+                    let d = number(t[2], ln, "diameter")?;
+                    if d <= 0.0 {
+                        return Err(format!(
+                            "line {ln}: diameter {d} is outside the allowed range (0, ∞) m"
+                        ));
+                    }
+                    let x = Vec3::new(
+                        number(t[4], ln, "x")?,
+                        number(t[5], ln, "y")?,
+                        number(t[6], ln, "z")?,
+                    );
+                    atoms.push((id, x, 0.5 * d));
+                } else {
+                    if t.len() < 4 {
+                        return Err(format!("line {ln}: expected `atom-ID vx vy vz wx wy wz`"));
+                    }
+                    let v = Vec3::new(
+                        number(t[1], ln, "vx")?,
+                        number(t[2], ln, "vy")?,
+                        number(t[3], ln, "vz")?,
+                    );
+                    vels.push((id, v));
+                }
+                read_rows += 1;
+            }
+            if read_rows < n {
+                return Err(format!(
+                    "the {section} section has {read_rows} rows, the header says {n} atoms"
+                ));
+            }
+            continue;
+        }
+        k += 1;
+    }
+    if atoms.is_empty() {
+        return Err("has no Atoms section".to_string());
+    }
+    atoms.sort_by_key(|a| a.0);
+    let ids: Vec<u64> = atoms.iter().map(|a| a.0).collect();
+    let mut p = Packing {
+        spheres: atoms.iter().map(|a| (a.1, a.2)).collect(),
+        ..Default::default()
+    };
+    if let (Some(xl), Some(yl), Some(zl), Some(xh), Some(yh), Some(zh)) =
+        (lo[0], lo[1], lo[2], hi[0], hi[1], hi[2])
+    {
+        p.bounds = Some((Vec3::new(xl, yl, zl), Vec3::new(xh, yh, zh)));
+    }
+    for (id, v) in vels {
+        if let Ok(i) = ids.binary_search(&id) {
+            p.velocities.push((i, v));
+        }
+    }
+    Ok(p)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_lammps_sphere_data() {
+        let dir = tempfile::tempdir().unwrap();
+        let f = dir.path().join("d.data");
+        std::fs::write(
+            &f,
+            "LAMMPS data\n\n2 atoms\n1 atom types\n\n0 1e-3 xlo xhi\n0 2e-3 ylo yhi\n0 3e-3 zlo zhi\n\nAtoms # sphere\n\n2 1 6e-4 2650 5e-4 5e-4 5e-4 0 0 0\n1 1 4e-4 2650 2e-4 2e-4 2e-4\n\nVelocities\n\n1 1.0 0 0 0 0 0\n2 0 2.0 0 0 0 0\n",
+        )
+        .unwrap();
+        let p = read_lammps_data(&f).unwrap();
+        assert_eq!(p.spheres.len(), 2);
+        assert_eq!(p.spheres[0].1, 2e-4);
+        assert_eq!(p.spheres[1].1, 3e-4);
+        assert_eq!(p.bounds.unwrap().1, Vec3::new(1e-3, 2e-3, 3e-3));
+        assert_eq!(
+            p.velocities,
+            vec![(0, Vec3::new(1.0, 0.0, 0.0)), (1, Vec3::new(0.0, 2.0, 0.0))]
+        );
+    }
+
+    #[test]
+    fn text_packing_rejects_bad_radius_with_line() {
+        let dir = tempfile::tempdir().unwrap();
+        let f = dir.path().join("p.txt");
+        std::fs::write(&f, "# box 0 0 0 1 1 1\n0.5 0.5 0.5 0.1\n0.2 0.2 0.2 -1\n").unwrap();
+        let e = read_text_packing(&f).unwrap_err();
+        assert!(e.starts_with("line 3: radius -1"), "{e}");
+    }
+}

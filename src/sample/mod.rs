@@ -1,0 +1,271 @@
+//! Sample generators: random packings, lattices and packings read from files.
+//!
+//! Every generator gives bodies at rest and the walls of their container. Randomness comes
+//! from the scene's seed only, one ChaCha8 stream per purpose, so a scene always gives the
+//! same sample.
+
+mod compaction;
+mod import;
+mod lattice;
+mod random_pack;
+
+use nalgebra::UnitQuaternion;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use serde::{Deserialize, Serialize};
+
+use crate::error::Result;
+use crate::scene::{SampleKind, Scene};
+use crate::shape::sphere_volume;
+use crate::state::{Bodies, Vec3, Walls};
+
+pub use compaction::{CompactionReport, compact_to_pressure};
+pub use import::{read_lammps_data, read_text_packing};
+pub use lattice::{hcp_positions, simple_cubic_positions};
+pub use random_pack::{PackReport, pack_geometric};
+
+/// What a generator made, for the summary.
+#[derive(Debug, Clone, Default, Serialize, Deserialize)]
+pub struct SampleInfo {
+    pub kind: String,
+    pub count: usize,
+    /// Box edge lengths at the start of loading (m).
+    pub box_size: [f64; 3],
+    /// Solid fraction at the start of loading.
+    pub solid_fraction: f64,
+    /// Steps of dynamic compaction (0 when none was needed).
+    pub compaction_steps: u64,
+}
+
+/// Bodies, their container and what was made.
+pub struct Sample {
+    pub bodies: Bodies,
+    pub walls: Walls,
+    pub info: SampleInfo,
+}
+
+/// Random-number streams, one per purpose, all from the scene seed.
+pub(crate) fn stream(seed: u64, purpose: u64) -> ChaCha8Rng {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(purpose);
+    rng
+}
+
+const STREAM_RADII: u64 = 1;
+const STREAM_POSITIONS: u64 = 2;
+const STREAM_ORIENTATIONS: u64 = 3;
+
+/// Builds the sample a scene describes. `progress` receives one-line notes on long stages.
+pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Sample> {
+    let spec = &scene.sample;
+    let rho = scene.material.density;
+    let mut orient = stream(scene.seed, STREAM_ORIENTATIONS);
+    let (mut bodies, mut walls) = match spec.kind {
+        SampleKind::Random => random_sample(scene, progress)?,
+        SampleKind::SimpleCubic | SampleKind::Hcp => {
+            let r = spec.radius_mean.expect("validated");
+            let layers = spec.layers.expect("validated");
+            let (pos, size) = if spec.kind == SampleKind::Hcp {
+                hcp_positions(r, layers)
+            } else {
+                simple_cubic_positions(r, layers)
+            };
+            let mut b = Bodies::default();
+            for p in pos {
+                b.push_sphere(p, r, rho, UnitQuaternion::identity());
+            }
+            (b, Walls::new_box(Vec3::zeros(), size))
+        }
+        SampleKind::Text | SampleKind::LammpsData => {
+            let file = spec.file.as_deref().expect("validated");
+            let path = scene.resolve(file);
+            let packing = if spec.kind == SampleKind::Text {
+                read_text_packing(&path)
+            } else {
+                read_lammps_data(&path)
+            }
+            .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
+            let mut b = Bodies::default();
+            for (p, r) in packing.spheres {
+                b.push_sphere(p, r, rho, UnitQuaternion::identity());
+            }
+            for (i, v) in packing.velocities {
+                if i < b.len() {
+                    b.vel[i] = v;
+                }
+            }
+            let (lo, hi) = match (spec.box_size, packing.bounds) {
+                (Some(size), _) => (Vec3::zeros(), Vec3::from(size)),
+                (None, Some(bounds)) => bounds,
+                (None, None) => bounding_box(&b),
+            };
+            (b, Walls::new_box(lo, hi))
+        }
+    };
+    if spec.kind == SampleKind::Random {
+        for q in &mut bodies.orientation {
+            *q = random_orientation(&mut orient);
+        }
+    }
+    let mut compaction_steps = 0;
+    if let Some(p) = spec.pressure {
+        let mu = spec.compaction_friction.unwrap_or(scene.material.friction);
+        let report = compact_to_pressure(&mut bodies, &mut walls, scene, p, mu, progress)?;
+        compaction_steps = report.steps;
+    }
+    let size = walls.box_size();
+    let info = SampleInfo {
+        kind: spec.kind.as_str().to_string(),
+        count: bodies.len(),
+        box_size: size.into(),
+        solid_fraction: bodies.solid_volume() / (size.x * size.y * size.z),
+        compaction_steps,
+    };
+    Ok(Sample {
+        bodies,
+        walls,
+        info,
+    })
+}
+
+/// Radii from a normal distribution truncated to [min, max] by rejection.
+pub fn truncated_normal_radii(
+    rng: &mut ChaCha8Rng,
+    mean: f64,
+    sd: f64,
+    min: f64,
+    max: f64,
+    mut keep_going: impl FnMut(usize, f64) -> bool,
+) -> Vec<f64> {
+    let mut radii = Vec::new();
+    let mut volume = 0.0;
+    let normal = (sd > 0.0).then(|| Normal::new(mean, sd).expect("sd > 0 is finite"));
+    while keep_going(radii.len(), volume) {
+        let r = match &normal {
+            None => mean,
+            Some(d) => loop {
+                let r = d.sample(rng);
+                if r >= min && r <= max {
+                    break r;
+                }
+            },
+        };
+        volume += sphere_volume(r);
+        radii.push(r);
+    }
+    radii
+}
+
+/// The radius bounds of a random sample: the scene's, or mean ± 3 sd (at least 1% of the
+/// mean).
+pub fn radius_bounds(scene: &Scene) -> (f64, f64, f64, f64) {
+    let s = &scene.sample;
+    let mean = s.radius_mean.expect("validated");
+    let sd = s.radius_sd.unwrap_or(0.0);
+    let min = s.radius_min.unwrap_or((mean - 3.0 * sd).max(0.01 * mean));
+    let max = s.radius_max.unwrap_or(mean + 3.0 * sd);
+    (mean, sd, min, max)
+}
+
+fn random_sample(
+    scene: &Scene,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<(Bodies, Walls)> {
+    let s = &scene.sample;
+    let (mean, sd, min, max) = radius_bounds(scene);
+    let mut size = Vec3::from(s.box_size.expect("validated"));
+    let box_volume = size.x * size.y * size.z;
+    let mut rng = stream(scene.seed, STREAM_RADII);
+    let radii = match (s.count, s.solid_fraction) {
+        (Some(n), _) => truncated_normal_radii(&mut rng, mean, sd, min, max, |k, _| k < n),
+        (None, Some(phi)) => {
+            truncated_normal_radii(&mut rng, mean, sd, min, max, |_, v| v < phi * box_volume)
+        }
+        (None, None) => unreachable!("validated: count or solid_fraction"),
+    };
+    let solid: f64 = radii.iter().map(|&r| sphere_volume(r)).sum();
+    if let (Some(_), Some(phi)) = (s.count, s.solid_fraction) {
+        // Both a count and a fraction: keep the box's shape, scale it to the fraction.
+        size *= (solid / phi / box_volume).cbrt();
+    }
+    let phi = solid / (size.x * size.y * size.z);
+    if phi > 0.65 {
+        return Err(scene.key_error(
+            "sample.count",
+            format!(
+                "gives a solid fraction of {phi:.3} in the box, above the 0.65 a random packing can reach; lower sample.count or enlarge sample.box"
+            ),
+        ));
+    }
+    let rmax = radii.iter().copied().fold(0.0, f64::max);
+    if (0..3).any(|a| size[a] <= 2.0 * rmax) {
+        return Err(scene.key_error(
+            "sample.box",
+            format!(
+                "is too small for the largest sphere (radius {rmax:e} m): each edge must exceed its diameter"
+            ),
+        ));
+    }
+    progress(&format!(
+        "packing {} spheres at solid fraction {phi:.3}",
+        radii.len()
+    ));
+    let mut prng = stream(scene.seed, STREAM_POSITIONS);
+    let (pos, report) = pack_geometric(&radii, Vec3::zeros(), size, &mut prng)
+        .map_err(|m| scene.key_error("sample.solid_fraction", m))?;
+    progress(&format!(
+        "packed in {} relaxation sweeps, largest overlap {:.2e} of a radius",
+        report.sweeps, report.max_overlap
+    ));
+    let mut b = Bodies::default();
+    for (p, r) in pos.into_iter().zip(radii) {
+        b.push_sphere(p, r, scene.material.density, UnitQuaternion::identity());
+    }
+    // Random indices would scatter neighbours over memory: number the spheres by position.
+    let order = b.spatial_order(2.0 * rmax);
+    b.reorder(&order);
+    Ok((b, Walls::new_box(Vec3::zeros(), size)))
+}
+
+/// A uniformly distributed rotation (Shoemake's method).
+pub fn random_orientation(rng: &mut ChaCha8Rng) -> UnitQuaternion<f64> {
+    let (u1, u2, u3): (f64, f64, f64) = (rng.random(), rng.random(), rng.random());
+    let tau = std::f64::consts::TAU;
+    let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+    let q = nalgebra::Quaternion::new(
+        b * (tau * u3).cos(),
+        a * (tau * u2).sin(),
+        a * (tau * u2).cos(),
+        b * (tau * u3).sin(),
+    );
+    UnitQuaternion::from_quaternion(q)
+}
+
+fn bounding_box(b: &Bodies) -> (Vec3, Vec3) {
+    let mut lo = Vec3::repeat(f64::INFINITY);
+    let mut hi = Vec3::repeat(f64::NEG_INFINITY);
+    for (p, &r) in b.pos.iter().zip(&b.radius) {
+        lo = lo.inf(&(p - Vec3::repeat(r)));
+        hi = hi.sup(&(p + Vec3::repeat(r)));
+    }
+    (lo, hi)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn truncated_normal_stays_in_bounds_with_right_mean() {
+        let mut rng = stream(7, STREAM_RADII);
+        let r =
+            truncated_normal_radii(&mut rng, 0.3e-3, 0.05e-3, 0.1e-3, 0.45e-3, |k, _| k < 20000);
+        assert!(r.iter().all(|&x| (0.1e-3..=0.45e-3).contains(&x)));
+        let mean = r.iter().sum::<f64>() / r.len() as f64;
+        // Symmetric truncation at +-3 sd keeps the mean; 20000 draws: sd of mean 3.5e-7.
+        assert!((mean - 0.3e-3).abs() < 1.5e-6, "{mean}");
+        let var = r.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / r.len() as f64;
+        assert!((var.sqrt() - 0.05e-3).abs() < 2e-6);
+    }
+}
