@@ -6,14 +6,22 @@
 //! [`driver::run_to_end`] writes series.csv, summary.json, VTK snapshots and checkpoints.
 //! SI units throughout. See docs/architecture.md for the map of the code.
 
+pub mod bench;
 pub mod contact;
+pub mod driver;
 pub mod effects;
 pub mod error;
+pub mod explain;
 pub mod integrate;
+pub mod loading;
+pub mod output;
+pub mod probe;
 pub mod sample;
 pub mod scene;
 pub mod shape;
+pub mod simulation;
 pub mod state;
 
 pub use error::{Error, Result};
 pub use scene::Scene;
+pub use simulation::Simulation;

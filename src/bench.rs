@@ -1,0 +1,173 @@
+//! Throughput benchmark: particle-steps per second on dense, jammed sphere packings. Used by
+//! `fractum bench` and `cargo bench`; it prints figures and asserts nothing.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use crate::error::{Error, Result};
+use crate::output::write_atomic;
+use crate::sample::{self, Sample};
+use crate::scene::Scene;
+use crate::simulation::Simulation;
+
+/// The material and contact model of the benchmark (that of scenes/oedometer_spheres.toml):
+/// r = 0.3 mm ± 10%, E = 60 GPa, ν = 0.17, μ = 0.5, e = 0.5, Hertz–Mindlin with damping.
+fn scene_text(bodies: usize) -> String {
+    format!(
+        r#"
+name = "bench_{bodies}"
+seed = 2024
+effects = ["contact", "damping", "friction"]
+[material]
+young = 60e9
+poisson = 0.17
+density = 2650.0
+friction = 0.5
+restitution = 0.5
+[sample]
+kind = "random"
+count = {bodies}
+radius_mean = 0.3e-3
+radius_sd = 0.03e-3
+radius_min = 0.27e-3
+radius_max = 0.33e-3
+box = [1.0, 1.0, 1.0]
+solid_fraction = 0.55
+pressure = 1e5
+compaction_friction = 0.1
+[loading]
+kind = "none"
+end_time = 1.0
+[time]
+safety = 0.3
+[output]
+every = 1000000000
+"#
+    )
+}
+
+/// One timed case.
+#[derive(Debug, Clone)]
+pub struct BenchCase {
+    pub bodies: usize,
+    pub threads: usize,
+    pub steps: u64,
+    pub seconds: f64,
+    pub contacts: usize,
+}
+
+impl BenchCase {
+    pub fn particle_steps_per_second(&self) -> f64 {
+        self.bodies as f64 * self.steps as f64 / self.seconds
+    }
+}
+
+/// A jammed packing of `bodies` spheres at 100 kPa, made once and cached as a text packing
+/// under `cache` (the compaction of 8000 spheres takes a while).
+pub fn dense_packing(
+    bodies: usize,
+    cache: &Path,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<Sample> {
+    let file = cache.join(format!("dense_{bodies}.txt"));
+    let scene = Scene::from_toml(&scene_text(bodies), "bench", cache, &[])?;
+    if file.exists() {
+        let mut s = scene.clone();
+        s.sample.kind = crate::scene::SampleKind::Text;
+        s.sample.file = Some(format!("dense_{bodies}.txt"));
+        s.sample.box_size = None;
+        s.sample.pressure = None;
+        return sample::build(&s, progress);
+    }
+    let made = sample::build(&scene, progress)?;
+    std::fs::create_dir_all(cache).map_err(|e| Error::io(cache, "create the folder", e))?;
+    let walls = &made.walls;
+    let lo = walls.walls[0].point.x;
+    let lo = [lo, walls.walls[2].point.y, walls.walls[4].point.z];
+    let size = walls.box_size();
+    let mut text = format!(
+        "# box {:e} {:e} {:e} {:e} {:e} {:e}\n",
+        lo[0],
+        lo[1],
+        lo[2],
+        lo[0] + size.x,
+        lo[1] + size.y,
+        lo[2] + size.z
+    );
+    for (p, r) in made.bodies.pos.iter().zip(&made.bodies.radius) {
+        text.push_str(&format!("{:e} {:e} {:e} {:e}\n", p.x, p.y, p.z, r));
+    }
+    write_atomic(&file, text.as_bytes())?;
+    Ok(made)
+}
+
+/// Times `steps` steps (after 200 warm-up steps) of the packing on `threads` threads.
+pub fn time_case(sample: &Sample, bodies: usize, threads: usize, steps: u64) -> Result<BenchCase> {
+    let scene = Scene::from_toml(&scene_text(bodies), "bench", Path::new("."), &[])?;
+    let s = Sample {
+        bodies: sample.bodies.clone(),
+        walls: sample.walls.clone(),
+        info: sample.info.clone(),
+    };
+    let mut sim = Simulation::from_sample(scene, s, threads)?;
+    sim.advance(200)?;
+    let start = Instant::now();
+    sim.advance(steps)?;
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(BenchCase {
+        bodies: sim.bodies.len(),
+        threads,
+        steps,
+        seconds,
+        contacts: sim.pipeline.contacts(),
+    })
+}
+
+/// The default cache folder for benchmark packings.
+pub fn default_cache() -> PathBuf {
+    PathBuf::from("target").join("fractum-bench")
+}
+
+/// Runs every (bodies, threads) case and returns the results.
+pub fn run(
+    sizes: &[usize],
+    threads: &[usize],
+    steps: u64,
+    cache: &Path,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<Vec<BenchCase>> {
+    let mut cases = Vec::new();
+    for &n in sizes {
+        let sample = dense_packing(n, cache, progress)?;
+        for &t in threads {
+            let case = time_case(&sample, n, t, steps)?;
+            progress(&format!(
+                "{} bodies, {} thread(s): {:.3e} particle-steps/s",
+                case.bodies,
+                case.threads,
+                case.particle_steps_per_second()
+            ));
+            cases.push(case);
+        }
+    }
+    Ok(cases)
+}
+
+/// The results as a Markdown table.
+pub fn table(cases: &[BenchCase]) -> String {
+    let mut s = String::from(
+        "| bodies | threads | contacts | steps | wall s | particle-steps/s |\n|---:|---:|---:|---:|---:|---:|\n",
+    );
+    for c in cases {
+        s.push_str(&format!(
+            "| {} | {} | {} | {} | {:.3} | {:.3e} |\n",
+            c.bodies,
+            c.threads,
+            c.contacts,
+            c.steps,
+            c.seconds,
+            c.particle_steps_per_second()
+        ));
+    }
+    s
+}

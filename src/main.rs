@@ -1,0 +1,212 @@
+//! The `fractum` command: run, resume, explain and bench.
+
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use fractum::driver::{RunOptions, run_to_end};
+use fractum::output::{OutputDir, checkpoint};
+use fractum::{Error, Scene, Simulation};
+use indicatif::{ProgressBar, ProgressStyle};
+
+#[derive(Parser)]
+#[command(
+    name = "fractum",
+    version,
+    about = "Discrete element solver for brittle fracture"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run a scene to the end of its loading.
+    Run {
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// Output folder (default: out/<scene name>).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Override a scene key by its dotted path, e.g. --set material.young=70e9.
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        /// No progress bar and no messages.
+        #[arg(long)]
+        quiet: bool,
+        /// Worker threads (default: all cores).
+        #[arg(long, default_value_t = 0)]
+        threads: usize,
+        /// Write a checkpoint every N steps into OUT/checkpoints/.
+        #[arg(long, value_name = "N")]
+        checkpoint_every: Option<u64>,
+    },
+    /// Continue a run from a checkpoint.
+    Resume {
+        /// A checkpoint file written with --checkpoint-every.
+        checkpoint: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        #[arg(long)]
+        quiet: bool,
+        #[arg(long, default_value_t = 0)]
+        threads: usize,
+        #[arg(long, value_name = "N")]
+        checkpoint_every: Option<u64>,
+    },
+    /// Print what a scene builds: sample, force pipeline, loading, time step, outputs.
+    Explain {
+        scene: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+    },
+    /// Time particle-steps per second on dense packings (prints figures, asserts nothing).
+    Bench {
+        /// Packing sizes.
+        #[arg(long, value_delimiter = ',', default_values_t = [1000usize, 8000])]
+        bodies: Vec<usize>,
+        /// Thread counts.
+        #[arg(long, value_delimiter = ',', default_values_t = [1usize, 2])]
+        threads: Vec<usize>,
+        /// Timed steps per case.
+        #[arg(long, default_value_t = 2000)]
+        steps: u64,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match dispatch(cli.command) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(e.exit_code() as u8)
+        }
+    }
+}
+
+fn dispatch(command: Command) -> Result<(), Error> {
+    match command {
+        Command::Run {
+            scene,
+            out,
+            set,
+            quiet,
+            threads,
+            checkpoint_every,
+        } => {
+            let scene = Scene::load(&scene, &set)?;
+            let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
+            let say = messenger(quiet);
+            say(&format!("{}: building the sample", scene.name));
+            let mut note = |m: &str| say(m);
+            let sim = Simulation::new(scene, threads, &mut note)?;
+            run(sim, out, Vec::new(), quiet, checkpoint_every)
+        }
+        Command::Resume {
+            checkpoint: path,
+            out,
+            quiet,
+            threads,
+            checkpoint_every,
+        } => {
+            let (sim, frames) = checkpoint::load(&path, threads)?;
+            let frames = frames
+                .into_iter()
+                .filter(|(_, f)| out.join(f).exists())
+                .collect();
+            messenger(quiet)(&format!(
+                "{}: resuming at step {} of {}",
+                sim.scene.name, sim.step, sim.end_step
+            ));
+            run(sim, out, frames, quiet, checkpoint_every)
+        }
+        Command::Explain { scene, set } => {
+            let scene = Scene::load(&scene, &set)?;
+            print!("{}", fractum::explain::explain(&scene)?);
+            Ok(())
+        }
+        Command::Bench {
+            bodies,
+            threads,
+            steps,
+        } => {
+            let cache = fractum::bench::default_cache();
+            let mut note = |m: &str| eprintln!("{m}");
+            let cases = fractum::bench::run(&bodies, &threads, steps, &cache, &mut note)?;
+            println!("{}", fractum::bench::table(&cases));
+            Ok(())
+        }
+    }
+}
+
+/// Prints one-line notes to stderr unless quiet.
+fn messenger(quiet: bool) -> impl Fn(&str) {
+    move |m: &str| {
+        if !quiet {
+            eprintln!("{m}");
+        }
+    }
+}
+
+fn run(
+    mut sim: Simulation,
+    out: PathBuf,
+    frames: Vec<(f64, String)>,
+    quiet: bool,
+    checkpoint_every: Option<u64>,
+) -> Result<(), Error> {
+    // The run is set up: only now may the output folder appear.
+    let mut dir = OutputDir::create(&out)?;
+    dir.frames = frames;
+    let say = messenger(quiet);
+    say(&format!(
+        "{}: {} bodies, {} steps of {:.3e} s on {} thread(s)",
+        sim.scene.name,
+        sim.bodies.len(),
+        sim.end_step - sim.step,
+        sim.dt,
+        sim.threads()
+    ));
+    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::new(sim.end_step);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:40}] {pos}/{len} steps  {msg}  eta {eta}",
+            )
+            .expect("valid template")
+            .progress_chars("=> "),
+        );
+        bar.set_position(sim.step);
+        bar
+    });
+    let options = RunOptions { checkpoint_every };
+    let result = run_to_end(&mut sim, &mut dir, options, &mut |s| {
+        if let Some(bar) = &bar {
+            bar.set_position(s.step);
+            bar.set_message(format!(
+                "t = {:.4e} s, strain {:.4}",
+                s.time,
+                s.axial_strain()
+            ));
+        }
+    });
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    result?;
+    say(&format!(
+        "{}: done; outputs in {} (series.csv, summary.json{})",
+        sim.scene.name,
+        out.display(),
+        if sim.scene.output.vtk > 0 {
+            ", particles.pvd"
+        } else {
+            ""
+        }
+    ));
+    Ok(())
+}

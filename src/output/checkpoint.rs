@@ -1,0 +1,85 @@
+//! Checkpoints: the whole state of a run in one binary file (postcard encoding), with the
+//! scene text and overrides it was built from, so `fractum resume` continues bit for bit.
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::scene::{Scene, io_reason};
+use crate::simulation::{RunState, Simulation};
+
+const MAGIC: &[u8; 8] = b"FRACTUM\x01";
+const FORMAT_VERSION: u32 = 1;
+
+#[derive(Serialize, Deserialize)]
+struct Checkpoint {
+    format_version: u32,
+    fractum_version: String,
+    scene_text: String,
+    scene_label: String,
+    scene_dir: String,
+    overrides: Vec<String>,
+    frames: Vec<(f64, String)>,
+    state: RunState,
+}
+
+/// The checkpoint bytes of a run.
+pub fn encode(sim: &Simulation, frames: &[(f64, String)]) -> Vec<u8> {
+    let src = &sim.scene.source;
+    let ck = Checkpoint {
+        format_version: FORMAT_VERSION,
+        fractum_version: env!("CARGO_PKG_VERSION").to_string(),
+        scene_text: src.text.clone(),
+        scene_label: src.label.clone(),
+        scene_dir: src.dir.to_string_lossy().to_string(),
+        overrides: src.overrides.clone(),
+        frames: frames.to_vec(),
+        state: sim.state(),
+    };
+    let mut bytes = MAGIC.to_vec();
+    bytes.extend(postcard::to_stdvec(&ck).expect("checkpoint serialises"));
+    bytes
+}
+
+/// A run restored from checkpoint bytes, with the VTK frames it had written.
+pub fn decode(
+    bytes: &[u8],
+    origin: &str,
+    threads: usize,
+) -> Result<(Simulation, Vec<(f64, String)>)> {
+    let body = bytes
+        .strip_prefix(MAGIC.as_slice())
+        .ok_or_else(|| Error::input(origin, "is not a Fractum checkpoint"))?;
+    let ck: Checkpoint = postcard::from_bytes(body)
+        .map_err(|e| Error::input(origin, format!("is a damaged checkpoint ({e})")))?;
+    if ck.format_version != FORMAT_VERSION {
+        return Err(Error::input(
+            origin,
+            format!(
+                "has checkpoint format {}, this Fractum reads format {FORMAT_VERSION}",
+                ck.format_version
+            ),
+        ));
+    }
+    let scene = Scene::from_toml(
+        &ck.scene_text,
+        &ck.scene_label,
+        Path::new(&ck.scene_dir),
+        &ck.overrides,
+    )?;
+    let sim = Simulation::from_state(scene, ck.state, threads)?;
+    Ok((sim, ck.frames))
+}
+
+/// Reads a checkpoint file.
+pub fn load(path: &Path, threads: usize) -> Result<(Simulation, Vec<(f64, String)>)> {
+    let origin = path.display().to_string();
+    let bytes = std::fs::read(path).map_err(|e| {
+        Error::input(
+            &origin,
+            format!("cannot read the checkpoint ({})", io_reason(&e)),
+        )
+    })?;
+    decode(&bytes, &origin, threads)
+}

@@ -1,0 +1,323 @@
+//! A run: state, force pipeline, integrator, loading and probes, and the step that ties them.
+//!
+//! ```text
+//! loading.apply            set wall velocities
+//! kick_drift               v(t+dt/2), x(t+dt); walls move
+//! pipeline.accumulate      forces at t+dt (only the effects the scene names)
+//! kick                     v(t+dt)
+//! probes                   a row of series.csv every `output.every` steps
+//! ```
+
+use std::sync::Arc;
+
+use serde_json::{Map, Value, json};
+
+use crate::effects::{Pipeline, StepContext};
+use crate::error::{Error, Result};
+use crate::integrate::{VelocityVerlet, rayleigh_time_step};
+use crate::loading::Loading;
+use crate::probe::{self, Series};
+use crate::sample::{self, Sample, SampleInfo};
+use crate::scene::{DtSpec, Scene};
+use crate::state::{Bodies, Forces, Walls};
+
+pub struct Simulation {
+    pub scene: Scene,
+    pub bodies: Bodies,
+    pub walls: Walls,
+    /// Forces and torques of the last evaluation (at the current positions).
+    pub forces: Forces,
+    pub pipeline: Pipeline,
+    pub integrator: VelocityVerlet,
+    pub loading: Loading,
+    pub series: Series,
+    pub sample: SampleInfo,
+    /// Time (s) and steps taken.
+    pub time: f64,
+    pub step: u64,
+    /// Time step (s) and the Rayleigh critical step it derives from.
+    pub dt: f64,
+    pub dt_rayleigh: f64,
+    /// The step at which the loading ends.
+    pub end_step: u64,
+    /// Box height at the start of loading (m), the reference of the axial strain.
+    pub height0: f64,
+    pool: Arc<rayon::ThreadPool>,
+}
+
+/// The persistent parts of a run, as a checkpoint stores them.
+#[derive(serde::Serialize, serde::Deserialize)]
+pub struct RunState {
+    pub bodies: Bodies,
+    pub walls: Walls,
+    pub forces: Forces,
+    pub loading: Loading,
+    pub series: Series,
+    pub sample: SampleInfo,
+    pub time: f64,
+    pub step: u64,
+    pub dt: f64,
+    pub height0: f64,
+    pub effects: Vec<(String, Vec<u8>)>,
+}
+
+/// A pool of `threads` workers (0: one per core).
+fn thread_pool(threads: usize) -> Result<Arc<rayon::ThreadPool>> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map(Arc::new)
+        .map_err(|e| Error::run(format!("cannot start {threads} worker threads ({e})")))
+}
+
+impl Simulation {
+    /// Builds the sample a scene describes and sets the run up. `threads` = 0 uses every core.
+    pub fn new(
+        scene: Scene,
+        threads: usize,
+        progress: &mut (dyn FnMut(&str) + Send),
+    ) -> Result<Self> {
+        let pool = thread_pool(threads)?;
+        // Sample preparation may run dynamics (compaction): on the run's own threads.
+        let s = pool.install(|| sample::build(&scene, progress))?;
+        Simulation::with_pool(scene, s, pool)
+    }
+
+    /// Sets a run up on a sample made elsewhere.
+    pub fn from_sample(scene: Scene, sample: Sample, threads: usize) -> Result<Self> {
+        Simulation::with_pool(scene, sample, thread_pool(threads)?)
+    }
+
+    fn with_pool(scene: Scene, sample: Sample, pool: Arc<rayon::ThreadPool>) -> Result<Self> {
+        let Sample {
+            bodies,
+            walls,
+            info,
+        } = sample;
+        let loading = Loading::from_scene(&scene, &walls)?;
+        let height0 = if walls.is_box {
+            walls.box_size().z
+        } else {
+            0.0
+        };
+        let mut sim = Simulation::assemble(scene, bodies, walls, loading, info, height0, pool)?;
+        sim.evaluate_forces(false);
+        sim.record_row();
+        Ok(sim)
+    }
+
+    fn assemble(
+        scene: Scene,
+        bodies: Bodies,
+        walls: Walls,
+        loading: Loading,
+        sample: SampleInfo,
+        height0: f64,
+        pool: Arc<rayon::ThreadPool>,
+    ) -> Result<Self> {
+        if bodies.is_empty() {
+            return Err(scene.key_error("sample", "gives no bodies"));
+        }
+        let pipeline = Pipeline::build(&scene)?;
+        let m = &scene.material;
+        let dt_rayleigh = rayleigh_time_step(bodies.min_radius(), m.density, m.young, m.poisson);
+        let dt = match scene.time.dt {
+            DtSpec::Auto => scene.time.safety * dt_rayleigh,
+            DtSpec::Seconds(s) => s,
+        };
+        let end_step = (loading.end_time() / dt - 1e-9).ceil().max(1.0) as u64;
+        let series = if walls.is_box {
+            Series::new(&probe::BOX_COLUMNS)
+        } else {
+            Series::new(&probe::FREE_COLUMNS)
+        };
+        let forces = Forces::new(bodies.len());
+        let sim = Simulation {
+            scene,
+            bodies,
+            walls,
+            forces,
+            pipeline,
+            integrator: VelocityVerlet::default(),
+            loading,
+            series,
+            sample,
+            time: 0.0,
+            step: 0,
+            dt,
+            dt_rayleigh,
+            end_step,
+            height0,
+            pool,
+        };
+        Ok(sim)
+    }
+
+    /// Restores a run from a checkpoint's scene and state.
+    pub fn from_state(scene: Scene, state: RunState, threads: usize) -> Result<Self> {
+        let mut sim = Simulation::assemble(
+            scene,
+            state.bodies,
+            state.walls,
+            state.loading,
+            state.sample,
+            state.height0,
+            thread_pool(threads)?,
+        )?;
+        sim.pipeline.restore(&state.effects)?;
+        sim.forces = state.forces;
+        sim.series = state.series;
+        sim.time = state.time;
+        sim.step = state.step;
+        sim.dt = state.dt;
+        sim.end_step = (sim.loading.end_time() / sim.dt - 1e-9).ceil().max(1.0) as u64;
+        Ok(sim)
+    }
+
+    /// The persistent state, for a checkpoint.
+    pub fn state(&self) -> RunState {
+        RunState {
+            bodies: self.bodies.clone(),
+            walls: self.walls.clone(),
+            forces: self.forces.clone(),
+            loading: self.loading.clone(),
+            series: self.series.clone(),
+            sample: self.sample.clone(),
+            time: self.time,
+            step: self.step,
+            dt: self.dt,
+            height0: self.height0,
+            effects: self.pipeline.save(),
+        }
+    }
+
+    pub fn threads(&self) -> usize {
+        self.pool.current_num_threads()
+    }
+
+    fn evaluate_forces(&mut self, update_history: bool) {
+        let pool = Arc::clone(&self.pool);
+        pool.install(|| {
+            self.forces.clear();
+            self.walls.clear_forces();
+            let ctx = StepContext {
+                dt: self.dt,
+                update_history,
+            };
+            self.pipeline
+                .accumulate(&ctx, &self.bodies, &mut self.walls, &mut self.forces);
+        });
+    }
+
+    /// True once the loading has run its course.
+    pub fn finished(&self) -> bool {
+        self.step >= self.end_step
+    }
+
+    /// Takes up to `steps` steps (never past the end of the loading), recording series rows on
+    /// the way. Fails when the state stops being finite.
+    pub fn advance(&mut self, steps: u64) -> Result<()> {
+        let target = self.step.saturating_add(steps).min(self.end_step);
+        let pool = Arc::clone(&self.pool);
+        pool.install(|| {
+            while self.step < target {
+                self.step_once();
+                if self.step % self.scene.output.every == 0 || self.step == self.end_step {
+                    self.check_finite()?;
+                    self.record_row();
+                }
+            }
+            Ok(())
+        })
+    }
+
+    fn step_once(&mut self) {
+        let dt = self.dt;
+        self.loading.apply(&mut self.walls);
+        self.integrator
+            .kick_drift(&mut self.bodies, &self.forces, dt);
+        self.walls.advance(dt);
+        self.forces.clear();
+        self.walls.clear_forces();
+        let ctx = StepContext {
+            dt,
+            update_history: true,
+        };
+        self.pipeline
+            .accumulate(&ctx, &self.bodies, &mut self.walls, &mut self.forces);
+        self.integrator.kick(&mut self.bodies, &self.forces, dt);
+        self.step += 1;
+        self.time = self.step as f64 * dt;
+    }
+
+    fn check_finite(&self) -> Result<()> {
+        if let Some(i) = self.bodies.first_non_finite() {
+            return Err(Error::run(format!(
+                "the run became unstable at step {} (t = {:e} s): body {i} has a non-finite position or velocity; lower time.safety (now {}) or time.dt",
+                self.step, self.time, self.scene.time.safety
+            )));
+        }
+        Ok(())
+    }
+
+    fn record_row(&mut self) {
+        let contacts = self.pipeline.contacts();
+        let row = if self.walls.is_box {
+            probe::box_row(self.time, self.height0, &self.bodies, &self.walls, contacts)
+        } else {
+            probe::free_row(self.time, &self.bodies, contacts)
+        };
+        if self.series.rows.last().is_some_and(|r| r[0] == row[0]) {
+            return;
+        }
+        self.series.rows.push(row);
+    }
+
+    /// The axial strain of the box (0 without one).
+    pub fn axial_strain(&self) -> f64 {
+        if self.walls.is_box {
+            (self.height0 - self.walls.box_size().z) / self.height0
+        } else {
+            0.0
+        }
+    }
+
+    /// The results of the run so far; identical for identical scenes, seeds and builds.
+    pub fn summary(&self) -> Value {
+        let mut m = Map::new();
+        m.insert("name".into(), self.scene.name.clone().into());
+        m.insert("model".into(), "granular".into());
+        m.insert("fractum_version".into(), env!("CARGO_PKG_VERSION").into());
+        m.insert("seed".into(), self.scene.seed.into());
+        m.insert("bodies".into(), self.bodies.len().into());
+        m.insert(
+            "effects".into(),
+            json!(
+                self.scene
+                    .effects
+                    .iter()
+                    .map(|e| e.as_str())
+                    .collect::<Vec<_>>()
+            ),
+        );
+        m.insert("steps".into(), self.step.into());
+        m.insert("time".into(), self.time.into());
+        m.insert("dt".into(), self.dt.into());
+        m.insert("dt_rayleigh".into(), self.dt_rayleigh.into());
+        m.insert(
+            "sample".into(),
+            serde_json::to_value(&self.sample).expect("sample info serialises"),
+        );
+        m.insert(
+            "solid_fraction_initial".into(),
+            self.sample.solid_fraction.into(),
+        );
+        m.insert("contacts_final".into(), self.pipeline.contacts().into());
+        m.insert(
+            "kinetic_energy_final".into(),
+            self.bodies.kinetic_energy().into(),
+        );
+        self.loading.summarize(&self.series, &mut m);
+        Value::Object(m)
+    }
+}
