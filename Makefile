@@ -1,0 +1,29 @@
+# Fractum: the two commands of the README, and a few helpers.
+#   make run    the main job: SHPB compaction of silica sand (scenes/shpb_sand.toml)
+#   make test   the whole test suite, as CI runs it (installs what it needs itself)
+
+CARGO ?= cargo
+OUT ?= out
+
+.PHONY: run test bench build fmt clippy clean
+
+run:
+	$(CARGO) run --release -- run scenes/shpb_sand.toml --out $(OUT)/shpb_sand
+
+test:
+	bash scripts/test.sh
+
+bench:
+	$(CARGO) run --release -- bench
+
+build:
+	$(CARGO) build --release --workspace
+
+fmt:
+	$(CARGO) fmt --all
+
+clippy:
+	$(CARGO) clippy --workspace --all-targets -- -D warnings
+
+clean:
+	$(CARGO) clean
