@@ -1,0 +1,146 @@
+//! Bad input: one sentence naming the file, the key and the allowed range, exit code 2, and
+//! no output folder left behind.
+
+mod common;
+
+use std::path::Path;
+
+fn base() -> String {
+    common::small_oedometer(50, "\"contact\"", 0.001)
+}
+
+/// Runs `fractum run` on `text` (with `extra` arguments) and checks the failure.
+fn fails(text: &str, extra: &[&str], wanted: &[&str]) {
+    let (dir, file) = common::scene_file(text);
+    let out = dir.path().join("out");
+    let mut args = vec![
+        "run",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let o = common::fractum(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "exit code, stderr: {stderr}");
+    let lines: Vec<&str> = stderr.lines().collect();
+    assert_eq!(lines.len(), 1, "one line: {stderr}");
+    assert!(
+        lines[0].contains(file.to_str().unwrap()),
+        "names the file: {stderr}"
+    );
+    for w in wanted {
+        assert!(lines[0].contains(w), "mentions `{w}`: {stderr}");
+    }
+    assert!(!out.exists(), "no output folder for bad input");
+}
+
+fn replace(text: &str, from: &str, to: &str) -> String {
+    assert!(text.contains(from), "test scene has `{from}`");
+    text.replacen(from, to, 1)
+}
+
+#[test]
+fn unknown_key() {
+    let t = replace(&base(), "young = 60e9", "young = 60e9\nyoungs = 1.0");
+    fails(
+        &t,
+        &[],
+        &["material.youngs", "unknown key", "allowed keys", "young"],
+    );
+}
+
+#[test]
+fn unknown_key_via_set() {
+    fails(
+        &base(),
+        &["--set", "material.yung=70e9"],
+        &["material.yung", "unknown key", "--set"],
+    );
+}
+
+#[test]
+fn wrong_type() {
+    let t = replace(&base(), "young = 60e9", "young = \"stiff\"");
+    fails(&t, &[], &["material.young", "wrong type", "a number"]);
+}
+
+#[test]
+fn poisson_out_of_range() {
+    let t = replace(&base(), "poisson = 0.17", "poisson = 0.5");
+    fails(&t, &[], &["material.poisson", "0.5", "(-1, 0.5)"]);
+    fails(
+        &base(),
+        &["--set", "material.poisson=-1.2"],
+        &["material.poisson", "(-1, 0.5)"],
+    );
+}
+
+#[test]
+fn non_positive_radius_density_young() {
+    let t = replace(&base(), "radius_mean = 0.3e-3", "radius_mean = 0.0");
+    fails(&t, &[], &["sample.radius_mean", "(0, ∞)"]);
+    let t = replace(&base(), "density = 2650.0", "density = -2650.0");
+    fails(&t, &[], &["material.density", "(0, ∞)", "kg/m³"]);
+    let t = replace(&base(), "young = 60e9", "young = 0");
+    fails(&t, &[], &["material.young", "(0, ∞)", "Pa"]);
+}
+
+#[test]
+fn missing_scene_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = common::fractum(
+        dir.path(),
+        &["run", "no_such_scene.toml", "--out", out.to_str().unwrap()],
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(stderr.lines().count(), 1);
+    assert!(
+        stderr.contains("no_such_scene.toml") && stderr.contains("no such file"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn missing_packing_file() {
+    let t = replace(
+        &base(),
+        "kind = \"random\"",
+        "kind = \"text\"\nfile = \"nowhere.txt\"",
+    );
+    fails(&t, &[], &["sample.file", "nowhere.txt", "no such file"]);
+}
+
+#[test]
+fn unknown_effect_lists_the_allowed_ones() {
+    let t = replace(
+        &base(),
+        "effects = [\"contact\"]",
+        "effects = [\"contact\", \"frction\"]",
+    );
+    fails(&t, &[], &["effects", "frction", "friction"]);
+}
+
+#[test]
+fn bad_toml_names_the_line() {
+    let t = replace(&base(), "young = 60e9", "young = = 60e9");
+    fails(&t, &[], &["line"]);
+}
+
+#[test]
+fn set_without_equals() {
+    fails(&base(), &["--set", "material.young"], &["KEY=VALUE"]);
+}
+
+#[test]
+fn a_good_scene_passes_these_checks() {
+    // The base scene itself is valid: the failures above come from the one change each makes.
+    let (dir, file) = common::scene_file(&base());
+    let o = common::fractum(dir.path(), &["explain", file.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(Path::new(&file).exists());
+}

@@ -1,0 +1,114 @@
+//! Helpers shared by the integration tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use fractum::Scene;
+use fractum::sample::{Sample, SampleInfo};
+use fractum::state::{Bodies, Walls};
+
+/// Path of the built `fractum` binary.
+pub fn fractum_bin() -> PathBuf {
+    PathBuf::from(env!("CARGO_BIN_EXE_fractum"))
+}
+
+/// Runs the binary with `args` in `cwd`.
+pub fn fractum(cwd: &Path, args: &[&str]) -> Output {
+    Command::new(fractum_bin())
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("fractum runs")
+}
+
+/// The repository root (where scenes/ lives).
+pub fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// A scene of the given effects with E = 60 GPa, ν = 0.17, ρ = 2650 and no sample of its own
+/// (tests place bodies themselves); it runs for `end_time` with a fixed `dt`.
+pub fn scene(effects: &str, extra: &str, end_time: f64, dt: f64) -> Scene {
+    let text = format!(
+        r#"
+name = "test"
+effects = [{effects}]
+[material]
+young = 60e9
+poisson = 0.17
+density = 2650.0
+friction = 0.5
+restitution = 0.5
+[sample]
+kind = "text"
+file = "unused.txt"
+[loading]
+kind = "none"
+end_time = {end_time:e}
+[time]
+dt = {dt:e}
+[output]
+every = 1
+{extra}
+"#
+    );
+    Scene::from_toml(&text, "test", Path::new("."), &[]).expect("test scene is valid")
+}
+
+pub fn sample(bodies: Bodies, walls: Walls) -> Sample {
+    let count = bodies.len();
+    Sample {
+        bodies,
+        walls,
+        info: SampleInfo {
+            kind: "test".into(),
+            count,
+            ..Default::default()
+        },
+    }
+}
+
+/// Writes `text` to a fresh scene file in a temporary folder; returns (folder, file).
+pub fn scene_file(text: &str) -> (tempfile::TempDir, PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("scene.toml");
+    std::fs::write(&file, text).unwrap();
+    (dir, file)
+}
+
+/// A small random oedometer scene: `count` spheres at solid fraction 0.5 (small walled boxes
+/// cannot be packed much denser without compaction), compressed to `end_strain` at 200/s.
+pub fn small_oedometer(count: usize, effects: &str, end_strain: f64) -> String {
+    format!(
+        r#"
+name = "small_oedometer"
+seed = 5
+effects = [{effects}]
+[material]
+young = 60e9
+poisson = 0.17
+density = 2650.0
+friction = 0.5
+restitution = 0.5
+[sample]
+kind = "random"
+count = {count}
+radius_mean = 0.3e-3
+radius_sd = 0.05e-3
+radius_min = 0.15e-3
+radius_max = 0.45e-3
+box = [3e-3, 3e-3, 3e-3]
+solid_fraction = 0.5
+[loading]
+kind = "oedometer"
+strain_rate = 200.0
+end_strain = {end_strain}
+[time]
+safety = 0.25
+[output]
+every = 50
+vtk = 500
+"#
+    )
+}

@@ -1,0 +1,183 @@
+//! Whole runs through the CLI: reproducibility, thread-count independence, checkpoint and
+//! resume, effects that are never built, outputs that ParaView reads.
+
+mod common;
+
+use std::fs;
+use std::path::Path;
+
+use fractum::Simulation;
+
+fn run(dir: &Path, scene: &Path, out: &str, extra: &[&str]) {
+    let out = dir.join(out);
+    let mut args = vec![
+        "run",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let o = common::fractum(dir, &args);
+    assert!(
+        o.status.success(),
+        "run failed: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(o.stderr.is_empty(), "--quiet prints nothing");
+}
+
+fn read(p: &Path) -> Vec<u8> {
+    fs::read(p).unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+}
+
+#[test]
+fn same_scene_and_seed_give_byte_identical_summary_for_any_thread_count() {
+    let text = common::small_oedometer(300, "\"contact\", \"damping\", \"friction\"", 0.02);
+    let (dir, scene) = common::scene_file(&text);
+    run(dir.path(), &scene, "a", &["--threads", "2"]);
+    run(dir.path(), &scene, "b", &["--threads", "2"]);
+    run(dir.path(), &scene, "c", &["--threads", "1"]);
+    let a = read(&dir.path().join("a/summary.json"));
+    assert_eq!(a, read(&dir.path().join("b/summary.json")));
+    assert_eq!(a, read(&dir.path().join("c/summary.json")));
+    assert_eq!(
+        read(&dir.path().join("a/series.csv")),
+        read(&dir.path().join("c/series.csv"))
+    );
+    // And the run did something: the driven face carries a stress by the end.
+    let summary: serde_json::Value = serde_json::from_slice(&a).unwrap();
+    assert!(summary["stress_final"].as_f64().unwrap() > 1e5);
+}
+
+#[test]
+fn resumed_run_gives_the_same_summary_as_an_uninterrupted_one() {
+    let text = common::small_oedometer(300, "\"contact\", \"damping\", \"friction\"", 0.02);
+    let (dir, scene) = common::scene_file(&text);
+    run(dir.path(), &scene, "whole", &["--checkpoint-every", "700"]);
+    let checkpoints: Vec<_> = fs::read_dir(dir.path().join("whole/checkpoints"))
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .collect();
+    assert!(
+        checkpoints.len() >= 2,
+        "checkpoints written: {checkpoints:?}"
+    );
+    let middle = dir.path().join("whole/checkpoints/step_000000700.fcp");
+    let out = dir.path().join("resumed");
+    let o = common::fractum(
+        dir.path(),
+        &[
+            "resume",
+            middle.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        read(&dir.path().join("whole/summary.json")),
+        read(&out.join("summary.json"))
+    );
+    assert_eq!(
+        read(&dir.path().join("whole/series.csv")),
+        read(&out.join("series.csv"))
+    );
+}
+
+#[test]
+fn scene_without_friction_never_builds_the_tangential_model() {
+    let text = common::small_oedometer(200, "\"contact\", \"damping\"", 0.005);
+    let scene = fractum::Scene::from_toml(&text, "t", Path::new("."), &[]).unwrap();
+    let before = fractum::contact::hertz_mindlin::mindlin_models_built();
+    let mut sim = Simulation::new(scene, 1, &mut |_| {}).unwrap();
+    sim.advance(200).unwrap();
+    assert_eq!(
+        fractum::contact::hertz_mindlin::mindlin_models_built(),
+        before,
+        "no Mindlin model constructed"
+    );
+    assert_eq!(
+        sim.pipeline.history_len(),
+        0,
+        "no contact history allocated"
+    );
+    assert!(sim.pipeline.contacts() > 0, "contacts are active");
+    assert!(!sim.pipeline.describe().join(" ").contains("Mindlin"));
+    // The same scene with friction builds exactly one.
+    let text = common::small_oedometer(200, "\"contact\", \"damping\", \"friction\"", 0.005);
+    let scene = fractum::Scene::from_toml(&text, "t", Path::new("."), &[]).unwrap();
+    let mut sim = Simulation::new(scene, 1, &mut |_| {}).unwrap();
+    sim.advance(200).unwrap();
+    assert_eq!(
+        fractum::contact::hertz_mindlin::mindlin_models_built(),
+        before + 1
+    );
+    assert!(sim.pipeline.history_len() > 0);
+}
+
+#[test]
+fn explain_prints_the_pipeline_and_what_is_left_out() {
+    let text = common::small_oedometer(50, "\"contact\", \"damping\"", 0.005);
+    let (dir, scene) = common::scene_file(&text);
+    let o = common::fractum(dir.path(), &["explain", scene.to_str().unwrap()]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success());
+    assert!(s.contains("1. contact: Hertz normal force"), "{s}");
+    assert!(s.contains("damping: viscous, restitution 0.5"), "{s}");
+    assert!(!s.contains("friction: Mindlin"), "{s}");
+    assert!(
+        s.contains("not built (not in `effects`): friction, gravity"),
+        "{s}"
+    );
+}
+
+#[test]
+fn vtk_snapshots_and_index_are_well_formed() {
+    let text = common::small_oedometer(120, "\"contact\"", 0.01);
+    let (dir, scene) = common::scene_file(&text);
+    run(dir.path(), &scene, "v", &[]);
+    let out = dir.path().join("v");
+    let pvd = fs::read_to_string(out.join("particles.pvd")).unwrap();
+    let files: Vec<&str> = pvd
+        .lines()
+        .filter_map(|l| l.split("file=\"").nth(1))
+        .map(|l| l.split('"').next().unwrap())
+        .collect();
+    assert!(files.len() >= 2, "{pvd}");
+    for f in &files {
+        let vtu = fs::read_to_string(out.join(f)).unwrap();
+        assert!(vtu.starts_with("<?xml"));
+        let n: usize = vtu
+            .split("NumberOfPoints=\"")
+            .nth(1)
+            .unwrap()
+            .split('"')
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap();
+        assert_eq!(n, 120);
+        // Every data array holds as many tuples as the piece says.
+        let radius = vtu
+            .split("Name=\"radius\" format=\"ascii\">")
+            .nth(1)
+            .unwrap();
+        let radius = radius.split("</DataArray>").next().unwrap();
+        assert_eq!(radius.split_whitespace().count(), n);
+        assert_eq!(
+            vtu.matches("<DataArray").count(),
+            vtu.matches("</DataArray>").count()
+        );
+        assert!(vtu.trim_end().ends_with("</VTKFile>"));
+    }
+    // Nothing half-written is left behind.
+    for e in fs::read_dir(&out)
+        .unwrap()
+        .chain(fs::read_dir(out.join("vtk")).unwrap())
+    {
+        let name = e.unwrap().file_name().to_string_lossy().to_string();
+        assert!(!name.ends_with(".tmp"), "{name}");
+    }
+}

@@ -1,0 +1,131 @@
+//! The shipped scenes: the oedometer on a jammed packing and the main job (SHPB compaction).
+
+mod common;
+
+use std::fs;
+
+fn run_scene(scene: &str, extra: &[&str]) -> (tempfile::TempDir, serde_json::Value, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let path = common::repo().join(scene);
+    let mut args = vec![
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let o = common::fractum(dir.path(), &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary = serde_json::from_slice(&fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let series = fs::read_to_string(out.join("series.csv")).unwrap();
+    (dir, summary, series)
+}
+
+fn column(series: &str, name: &str) -> Vec<f64> {
+    let mut lines = series.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn oedometer_on_a_jammed_packing() {
+    let (_dir, s, series) = run_scene("scenes/oedometer_spheres.toml", &[]);
+    let get = |k: &str| {
+        s[k].as_f64()
+            .unwrap_or_else(|| panic!("summary.json has no number `{k}`: {s}"))
+    };
+    // Jammed near 100 kPa.
+    let p0 = get("stress_initial");
+    assert!((p0 / 1e5 - 1.0).abs() < 0.05, "initial stress {p0} Pa");
+    let lateral0 = column(&series, "stress_lateral_x")[0];
+    assert!(
+        (lateral0 / 1e5 - 1.0).abs() < 0.05,
+        "isotropic: lateral {lateral0} Pa"
+    );
+    let phi = get("solid_fraction_initial");
+    assert!((0.57..0.62).contains(&phi), "solid fraction {phi}");
+    // Quasi-static: the driven and the fixed face carry the same stress.
+    let top = column(&series, "stress_driven");
+    let bottom = column(&series, "stress_opposite");
+    let last = top.len() - 1;
+    assert!(
+        (top[last] / bottom[last] - 1.0).abs() < 0.03,
+        "top {} Pa, bottom {} Pa",
+        top[last],
+        bottom[last]
+    );
+    // Stress rises monotonically with strain (after the first 0.1%).
+    let eps = column(&series, "axial_strain");
+    let axial: Vec<f64> = top
+        .iter()
+        .zip(&bottom)
+        .map(|(a, b)| 0.5 * (a + b))
+        .collect();
+    for k in 1..axial.len() {
+        if eps[k] > 1e-3 {
+            assert!(
+                axial[k] > axial[k - 1] * 0.995,
+                "stress drop at strain {}",
+                eps[k]
+            );
+        }
+    }
+    // For scale, peer codes on periodic ~1000-sphere packings of this material at 100 kPa
+    // (../shared/reference/): LAMMPS 0.83 GPa secant, 0.87 GPa tangent at 0.5%, K0 0.34;
+    // YADE 0.84 GPa secant, K0 0.47. Here the box has walls, whose loose boundary layer makes
+    // the sample softer; the same-packing comparison is the LAMMPS/YADE cross-check.
+    let secant = get("constrained_modulus_secant");
+    let tangent = get("constrained_modulus_tangent");
+    let k0 = get("lateral_stress_ratio");
+    assert!(
+        (secant / 0.83e9 - 1.0).abs() < 0.3,
+        "secant modulus {secant} Pa"
+    );
+    assert!(
+        (tangent / 0.87e9 - 1.0).abs() < 0.3,
+        "tangent modulus {tangent} Pa"
+    );
+    assert!((0.30..0.50).contains(&k0), "K0 {k0}");
+    assert!(tangent > secant, "Hertz contacts stiffen with load");
+    // The secant is the stress change over the strain.
+    let check = (get("stress_final") - p0) / get("strain_final");
+    assert!((check / secant - 1.0).abs() < 1e-12);
+    assert!((get("strain_final") - 0.01).abs() < 1e-4);
+    // The two lateral directions agree (isotropic packing).
+    let (lx, ly) = (
+        column(&series, "stress_lateral_x"),
+        column(&series, "stress_lateral_y"),
+    );
+    assert!((lx[last] / ly[last] - 1.0).abs() < 0.15);
+}
+
+#[test]
+fn main_job_compacts_the_sand_and_stays_finite() {
+    // The SHPB scene to 10% strain (the full 40% is the README's main job).
+    let (_dir, s, series) = run_scene(
+        "scenes/shpb_sand.toml",
+        &["--set", "loading.end_strain=0.1", "--set", "output.vtk=0"],
+    );
+    let bodies = s["bodies"].as_u64().unwrap();
+    assert!((900..1050).contains(&bodies), "about 955 spheres: {bodies}");
+    let phi = s["solid_fraction_initial"].as_f64().unwrap();
+    assert!((phi - 0.55).abs() < 0.003, "{phi}");
+    assert!(
+        s["stress_initial"].as_f64().unwrap().abs() < 1.0,
+        "loose: no initial stress"
+    );
+    let top = column(&series, "stress_driven");
+    assert!(top.iter().all(|v| v.is_finite()));
+    assert!(*top.last().unwrap() > 1e6, "the sample resists compaction");
+    let ke = column(&series, "kinetic_energy");
+    assert!(ke.iter().all(|v| v.is_finite() && *v >= 0.0));
+    // Solid fraction follows the box: phi0 / (1 - strain).
+    let phi_end = *column(&series, "solid_fraction").last().unwrap();
+    let eps_end = *column(&series, "axial_strain").last().unwrap();
+    assert!((phi_end - phi / (1.0 - eps_end)).abs() < 1e-12);
+}
