@@ -15,6 +15,7 @@ pub mod explain;
 pub mod integrate;
 pub mod loading;
 pub mod output;
+pub mod parallel;
 pub mod probe;
 pub mod sample;
 pub mod scene;

@@ -42,7 +42,8 @@ pub struct Simulation {
     pub end_step: u64,
     /// Box height at the start of loading (m), the reference of the axial strain.
     pub height0: f64,
-    pool: Arc<rayon::ThreadPool>,
+    /// The run's worker threads; `None` runs everything on the caller's thread.
+    pool: Option<Arc<rayon::ThreadPool>>,
 }
 
 /// The persistent parts of a run, as a checkpoint stores them.
@@ -61,13 +62,30 @@ pub struct RunState {
     pub effects: Vec<(String, Vec<u8>)>,
 }
 
-/// A pool of `threads` workers (0: one per core).
-fn thread_pool(threads: usize) -> Result<Arc<rayon::ThreadPool>> {
+/// A pool of `threads` workers (0: one per core), or none for a single thread: then the run
+/// stays on the caller's thread and never hands work across threads.
+fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
+    let threads = if threads == 0 {
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    } else {
+        threads
+    };
+    if threads <= 1 {
+        return Ok(None);
+    }
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
-        .map(Arc::new)
+        .map(|p| Some(Arc::new(p)))
         .map_err(|e| Error::run(format!("cannot start {threads} worker threads ({e})")))
+}
+
+/// Runs `f` on the pool's threads, or right here without one.
+fn on_threads<R: Send>(pool: &Option<Arc<rayon::ThreadPool>>, f: impl FnOnce() -> R + Send) -> R {
+    match pool {
+        Some(p) => p.install(f),
+        None => f(),
+    }
 }
 
 impl Simulation {
@@ -79,7 +97,7 @@ impl Simulation {
     ) -> Result<Self> {
         let pool = thread_pool(threads)?;
         // Sample preparation may run dynamics (compaction): on the run's own threads.
-        let s = pool.install(|| sample::build(&scene, progress))?;
+        let s = on_threads(&pool, || sample::build(&scene, progress))?;
         Simulation::with_pool(scene, s, pool)
     }
 
@@ -88,7 +106,11 @@ impl Simulation {
         Simulation::with_pool(scene, sample, thread_pool(threads)?)
     }
 
-    fn with_pool(scene: Scene, sample: Sample, pool: Arc<rayon::ThreadPool>) -> Result<Self> {
+    fn with_pool(
+        scene: Scene,
+        sample: Sample,
+        pool: Option<Arc<rayon::ThreadPool>>,
+    ) -> Result<Self> {
         let Sample {
             bodies,
             walls,
@@ -113,7 +135,7 @@ impl Simulation {
         loading: Loading,
         sample: SampleInfo,
         height0: f64,
-        pool: Arc<rayon::ThreadPool>,
+        pool: Option<Arc<rayon::ThreadPool>>,
     ) -> Result<Self> {
         if bodies.is_empty() {
             return Err(scene.key_error("sample", "gives no bodies"));
@@ -192,12 +214,12 @@ impl Simulation {
     }
 
     pub fn threads(&self) -> usize {
-        self.pool.current_num_threads()
+        self.pool.as_ref().map_or(1, |p| p.current_num_threads())
     }
 
     fn evaluate_forces(&mut self, update_history: bool) {
-        let pool = Arc::clone(&self.pool);
-        pool.install(|| {
+        let pool = self.pool.clone();
+        on_threads(&pool, || {
             self.forces.clear();
             self.walls.clear_forces();
             let ctx = StepContext {
@@ -218,8 +240,8 @@ impl Simulation {
     /// the way. Fails when the state stops being finite.
     pub fn advance(&mut self, steps: u64) -> Result<()> {
         let target = self.step.saturating_add(steps).min(self.end_step);
-        let pool = Arc::clone(&self.pool);
-        pool.install(|| {
+        let pool = self.pool.clone();
+        on_threads(&pool, || {
             while self.step < target {
                 self.step_once();
                 if self.step % self.scene.output.every == 0 || self.step == self.end_step {

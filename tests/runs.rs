@@ -32,22 +32,38 @@ fn read(p: &Path) -> Vec<u8> {
 }
 
 #[test]
-fn same_scene_and_seed_give_byte_identical_summary_for_any_thread_count() {
-    let text = common::small_oedometer(300, "\"contact\", \"damping\", \"friction\"", 0.02);
+fn same_scene_seed_and_thread_count_give_byte_identical_results() {
+    // 3200 bodies: enough for two threads to take the parallel pair loop.
+    let text = common::small_oedometer(3200, "\"contact\", \"damping\", \"friction\"", 0.004)
+        .replace("box = [3e-3, 3e-3, 3e-3]", "box = [6e-3, 6e-3, 6e-3]");
     let (dir, scene) = common::scene_file(&text);
-    run(dir.path(), &scene, "a", &["--threads", "2"]);
-    run(dir.path(), &scene, "b", &["--threads", "2"]);
-    run(dir.path(), &scene, "c", &["--threads", "1"]);
-    let a = read(&dir.path().join("a/summary.json"));
-    assert_eq!(a, read(&dir.path().join("b/summary.json")));
-    assert_eq!(a, read(&dir.path().join("c/summary.json")));
-    assert_eq!(
-        read(&dir.path().join("a/series.csv")),
-        read(&dir.path().join("c/series.csv"))
+    for (a, b, threads) in [("a2", "b2", "2"), ("a1", "b1", "1")] {
+        run(dir.path(), &scene, a, &["--threads", threads]);
+        run(dir.path(), &scene, b, &["--threads", threads]);
+        for file in ["summary.json", "series.csv"] {
+            assert_eq!(
+                read(&dir.path().join(a).join(file)),
+                read(&dir.path().join(b).join(file)),
+                "{file} with {threads} thread(s)"
+            );
+        }
+    }
+    // The run did something: contacts formed and the driven face carries a stress.
+    let summary: serde_json::Value =
+        serde_json::from_slice(&read(&dir.path().join("a2/summary.json"))).unwrap();
+    assert_eq!(summary["bodies"], 3200);
+    assert!(summary["contacts_final"].as_u64().unwrap() > 1000);
+    // One and two threads sum forces in different orders but agree to round-off.
+    let one: serde_json::Value =
+        serde_json::from_slice(&read(&dir.path().join("a1/summary.json"))).unwrap();
+    let (s1, s2) = (
+        one["stress_final"].as_f64().unwrap(),
+        summary["stress_final"].as_f64().unwrap(),
     );
-    // And the run did something: the driven face carries a stress by the end.
-    let summary: serde_json::Value = serde_json::from_slice(&a).unwrap();
-    assert!(summary["stress_final"].as_f64().unwrap() > 1e5);
+    assert!(
+        (s1 / s2 - 1.0).abs() < 1e-3,
+        "1 thread {s1} Pa, 2 threads {s2} Pa"
+    );
 }
 
 #[test]
@@ -180,4 +196,56 @@ fn vtk_snapshots_and_index_are_well_formed() {
         let name = e.unwrap().file_name().to_string_lossy().to_string();
         assert!(!name.ends_with(".tmp"), "{name}");
     }
+}
+
+#[test]
+fn progress_bar_only_on_a_terminal_and_never_with_quiet() {
+    let text = common::small_oedometer(300, "\"contact\"", 0.05);
+    let (dir, scene) = common::scene_file(&text);
+    let bin = common::fractum_bin();
+    let cmd = |out: &str, quiet: &str| {
+        format!(
+            "{} run {} --out {} {quiet}",
+            bin.display(),
+            scene.display(),
+            dir.path().join(out).display()
+        )
+    };
+    // `script` (util-linux) runs the command on a pseudo-terminal.
+    let on_tty = |c: String| {
+        let o = std::process::Command::new("script")
+            .args(["-qec", &c, "/dev/null"])
+            .output()
+            .expect("`script` from util-linux runs");
+        assert!(o.status.success());
+        String::from_utf8_lossy(&o.stdout).to_string()
+    };
+    let tty = on_tty(cmd("tty", ""));
+    assert!(
+        tty.contains(" steps") && tty.contains("eta"),
+        "bar on a terminal: {tty}"
+    );
+    assert!(
+        tty.contains("done; outputs in"),
+        "says where the outputs are: {tty}"
+    );
+    let quiet = on_tty(cmd("quiet", "--quiet"));
+    assert!(!quiet.contains("eta"), "no bar with --quiet: {quiet}");
+    // Not a terminal: plain messages, no bar.
+    let o = common::fractum(
+        dir.path(),
+        &[
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            dir.path().join("pipe").to_str().unwrap(),
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success());
+    assert!(
+        !stderr.contains("eta") && !stderr.contains('\r'),
+        "{stderr}"
+    );
+    assert!(stderr.contains("done; outputs in"), "{stderr}");
 }

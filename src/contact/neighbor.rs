@@ -8,6 +8,7 @@
 
 use rayon::prelude::*;
 
+use crate::parallel::threads_here;
 use crate::state::{Vec3, Walls};
 
 /// Verlet half list of body pairs.
@@ -49,7 +50,7 @@ impl PairList {
         if self.ref_pos.len() != pos.len() {
             return f64::INFINITY;
         }
-        let max2 = if pos.len() >= 8192 {
+        let max2 = if pos.len() >= 8192 && threads_here() > 1 {
             pos.par_iter()
                 .zip(self.ref_pos.par_iter())
                 .with_min_len(4096)
@@ -75,25 +76,26 @@ impl PairList {
         let rmax = radius.iter().copied().fold(0.0, f64::max);
         let grid = CellGrid::new(pos, 2.0 * rmax + self.skin);
         let skin = self.skin;
-        let rows: Vec<Vec<u32>> = (0..n)
-            .into_par_iter()
-            .with_min_len(256)
-            .map(|i| {
-                let mut row = Vec::new();
-                let xi = pos[i];
-                let ri = radius[i];
-                grid.for_each_near(&xi, |j| {
-                    if j > i {
-                        let cut = ri + radius[j] + skin;
-                        if (xi - pos[j]).norm_squared() < cut * cut {
-                            row.push(j as u32);
-                        }
+        let row = |i: usize| {
+            let mut row = Vec::new();
+            let xi = pos[i];
+            let ri = radius[i];
+            grid.for_each_near(&xi, |j| {
+                if j > i {
+                    let cut = ri + radius[j] + skin;
+                    if (xi - pos[j]).norm_squared() < cut * cut {
+                        row.push(j as u32);
                     }
-                });
-                row.sort_unstable();
-                row
-            })
-            .collect();
+                }
+            });
+            row.sort_unstable();
+            row
+        };
+        let rows: Vec<Vec<u32>> = if threads_here() > 1 {
+            (0..n).into_par_iter().with_min_len(256).map(row).collect()
+        } else {
+            (0..n).map(row).collect()
+        };
         self.offsets.clear();
         self.offsets.reserve(n + 1);
         self.offsets.push(0);

@@ -16,6 +16,7 @@ use crate::contact::hertz_mindlin::{
 };
 use crate::contact::neighbor::{PairList, WallLists, transfer_pair_data, transfer_wall_data};
 use crate::error::{Error, Result};
+use crate::parallel::threads_here;
 use crate::scene::{EffectKind, Scene};
 use crate::state::{Bodies, Forces, Vec3, Walls};
 
@@ -298,7 +299,7 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
     /// then added per body in range order. For a given thread count the order of every sum is
     /// fixed, so runs repeat bit for bit.
     fn pairs_parallel(&mut self, bodies: &Bodies, forces: &mut Forces, ctx: &StepContext) {
-        let threads = rayon::current_num_threads();
+        let threads = threads_here();
         if self.chunk_threads != threads || self.chunks.len() != self.accumulators.len() {
             self.chunks = self.pairs.row_chunks(threads);
             self.accumulators = self
@@ -504,7 +505,7 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
         if FRIC && self.pair_hist.len() != self.pairs.len() {
             self.pair_hist.resize(self.pairs.len(), Vec3::zeros());
         }
-        let threads = rayon::current_num_threads();
+        let threads = threads_here();
         if threads > 1 && bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
             self.pairs_parallel(bodies, forces, ctx);
         } else {

@@ -10,8 +10,10 @@
 //! The angular update `ω += dt/2 · T / I` holds for bodies whose inertia is isotropic
 //! (spheres); orientations are advanced only when something reads them.
 
+use nalgebra::UnitQuaternion;
 use rayon::prelude::*;
 
+use crate::parallel::threads_here;
 use crate::state::{Bodies, Forces, Vec3};
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -21,7 +23,8 @@ pub struct VelocityVerlet {
     pub track_orientation: bool,
 }
 
-const PAR_MIN: usize = 4096;
+/// Bodies below which the update runs on one thread whatever the pool.
+const PAR_MIN: usize = 8192;
 
 impl VelocityVerlet {
     /// First half kick and drift: velocities to t + dt/2, positions to t + dt.
@@ -37,20 +40,31 @@ impl VelocityVerlet {
             inv_inertia,
             ..
         } = b;
-        pos.par_iter_mut()
-            .zip(vel.par_iter_mut())
-            .zip(omega.par_iter_mut())
-            .zip(orientation.par_iter_mut())
-            .enumerate()
-            .with_min_len(PAR_MIN)
-            .for_each(|(i, (((x, v), w), q))| {
+        let update =
+            |i: usize, x: &mut Vec3, v: &mut Vec3, w: &mut Vec3, q: &mut UnitQuaternion<f64>| {
                 *v += f.force[i] * (half * inv_mass[i]);
                 *x += *v * dt;
                 *w += f.torque[i].component_mul(&inv_inertia[i]) * half;
                 if track {
                     *q = advance_orientation(q, w, dt);
                 }
-            });
+            };
+        if pos.len() >= PAR_MIN && threads_here() > 1 {
+            pos.par_iter_mut()
+                .zip(vel.par_iter_mut())
+                .zip(omega.par_iter_mut())
+                .zip(orientation.par_iter_mut())
+                .enumerate()
+                .with_min_len(PAR_MIN / 2)
+                .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
+        } else {
+            pos.iter_mut()
+                .zip(vel.iter_mut())
+                .zip(omega.iter_mut())
+                .zip(orientation.iter_mut())
+                .enumerate()
+                .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
+        }
     }
 
     /// Second half kick: velocities to t + dt with the new forces.
@@ -63,30 +77,33 @@ impl VelocityVerlet {
             inv_inertia,
             ..
         } = b;
-        vel.par_iter_mut()
-            .zip(omega.par_iter_mut())
-            .enumerate()
-            .with_min_len(PAR_MIN)
-            .for_each(|(i, (v, w))| {
-                *v += f.force[i] * (half * inv_mass[i]);
-                *w += f.torque[i].component_mul(&inv_inertia[i]) * half;
-            });
+        let update = |(i, (v, w)): (usize, (&mut Vec3, &mut Vec3))| {
+            *v += f.force[i] * (half * inv_mass[i]);
+            *w += f.torque[i].component_mul(&inv_inertia[i]) * half;
+        };
+        if vel.len() >= PAR_MIN && threads_here() > 1 {
+            vel.par_iter_mut()
+                .zip(omega.par_iter_mut())
+                .enumerate()
+                .with_min_len(PAR_MIN / 2)
+                .for_each(update);
+        } else {
+            vel.iter_mut()
+                .zip(omega.iter_mut())
+                .enumerate()
+                .for_each(update);
+        }
     }
 }
 
 /// Rotates `q` by the angular velocity `w` (world frame) over `dt`.
-fn advance_orientation(
-    q: &nalgebra::UnitQuaternion<f64>,
-    w: &Vec3,
-    dt: f64,
-) -> nalgebra::UnitQuaternion<f64> {
-    nalgebra::UnitQuaternion::from_scaled_axis(w * dt) * q
+fn advance_orientation(q: &UnitQuaternion<f64>, w: &Vec3, dt: f64) -> UnitQuaternion<f64> {
+    UnitQuaternion::from_scaled_axis(w * dt) * q
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nalgebra::UnitQuaternion;
 
     #[test]
     fn free_fall_is_exact_for_constant_force() {
