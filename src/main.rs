@@ -33,15 +33,8 @@ enum Command {
         /// Override a scene key by its dotted path, e.g. --set material.young=70e9.
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
-        /// No progress bar and no messages.
-        #[arg(long)]
-        quiet: bool,
-        /// Worker threads (default: all cores).
-        #[arg(long, default_value_t = 0)]
-        threads: usize,
-        /// Write a checkpoint every N steps into OUT/checkpoints/.
-        #[arg(long, value_name = "N")]
-        checkpoint_every: Option<u64>,
+        #[command(flatten)]
+        options: RunArgs,
     },
     /// Continue a run from a checkpoint.
     Resume {
@@ -50,12 +43,8 @@ enum Command {
         /// Output folder.
         #[arg(long)]
         out: PathBuf,
-        #[arg(long)]
-        quiet: bool,
-        #[arg(long, default_value_t = 0)]
-        threads: usize,
-        #[arg(long, value_name = "N")]
-        checkpoint_every: Option<u64>,
+        #[command(flatten)]
+        options: RunArgs,
     },
     /// Print what a scene builds: sample, force pipeline, loading, time step, outputs.
     Explain {
@@ -77,6 +66,20 @@ enum Command {
     },
 }
 
+/// Options shared by `run` and `resume`.
+#[derive(clap::Args)]
+struct RunArgs {
+    /// No progress bar and no messages.
+    #[arg(long)]
+    quiet: bool,
+    /// Worker threads (default: all cores).
+    #[arg(long, default_value_t = 0)]
+    threads: usize,
+    /// Write a checkpoint every N steps into OUT/checkpoints/.
+    #[arg(long, value_name = "N")]
+    checkpoint_every: Option<u64>,
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match dispatch(cli.command) {
@@ -94,35 +97,31 @@ fn dispatch(command: Command) -> Result<(), Error> {
             scene,
             out,
             set,
-            quiet,
-            threads,
-            checkpoint_every,
+            options,
         } => {
             let scene = Scene::load(&scene, &set)?;
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
-            let say = messenger(quiet);
+            let say = messenger(options.quiet);
             say(&format!("{}: building the sample", scene.name));
             let mut note = |m: &str| say(m);
-            let sim = Simulation::new(scene, threads, &mut note)?;
-            run(sim, out, Vec::new(), quiet, checkpoint_every)
+            let sim = Simulation::new(scene, options.threads, &mut note)?;
+            run(sim, out, Vec::new(), &options)
         }
         Command::Resume {
             checkpoint: path,
             out,
-            quiet,
-            threads,
-            checkpoint_every,
+            options,
         } => {
-            let (sim, frames) = checkpoint::load(&path, threads)?;
+            let (sim, frames) = checkpoint::load(&path, options.threads)?;
             let frames = frames
                 .into_iter()
                 .filter(|(_, f)| out.join(f).exists())
                 .collect();
-            messenger(quiet)(&format!(
+            messenger(options.quiet)(&format!(
                 "{}: resuming at step {} of {}",
                 sim.scene.name, sim.step, sim.end_step
             ));
-            run(sim, out, frames, quiet, checkpoint_every)
+            run(sim, out, frames, &options)
         }
         Command::Explain { scene, set } => {
             let scene = Scene::load(&scene, &set)?;
@@ -156,9 +155,9 @@ fn run(
     mut sim: Simulation,
     out: PathBuf,
     frames: Vec<(f64, String)>,
-    quiet: bool,
-    checkpoint_every: Option<u64>,
+    args: &RunArgs,
 ) -> Result<(), Error> {
+    let quiet = args.quiet;
     // The run is set up: only now may the output folder appear.
     let mut dir = OutputDir::create(&out)?;
     dir.frames = frames;
@@ -183,7 +182,9 @@ fn run(
         bar.set_position(sim.step);
         bar
     });
-    let options = RunOptions { checkpoint_every };
+    let options = RunOptions {
+        checkpoint_every: args.checkpoint_every,
+    };
     let result = run_to_end(&mut sim, &mut dir, options, &mut |s| {
         if let Some(bar) = &bar {
             bar.set_position(s.step);
