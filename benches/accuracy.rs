@@ -3,7 +3,8 @@
 //! 1. A head-on Hertz impact (r = 0.3 mm, 1 m/s each way) at time steps from 1 to 0.005 times
 //!    the Rayleigh step: error of the contact time against Hertz theory (undamped) and of the
 //!    restitution against the requested 0.5 (damped).
-//! 2. The SHPB main job to 10% strain at safety factors 0.8 to 0.05: the axial stress at 10%
+//! 2. The SHPB main job to 10% strain at safety factors 0.8 to 0.05 (the time-step guard stops
+//!    the runs whose step is too long): the axial stress at 10%
 //!    against a run at safety 0.025, with the wall time of each run.
 //!
 //! Prints both tables and writes docs/img/hertz_impact_error.svg and
@@ -125,14 +126,14 @@ fn main() {
     println!("| safety | steps | wall s | stress at 10% (Pa) | error |");
     println!("|---:|---:|---:|---:|---:|");
     let mut shpb = Vec::new();
-    for s in [0.8, 0.6, 0.4, 0.3, 0.2, 0.1, 0.05] {
+    for s in [0.8, 0.6, 0.5, 0.4, 0.3, 0.2, 0.1, 0.05] {
         match run(s) {
             Some((stress, wall, steps)) => {
                 let err = (stress / reference - 1.0).abs();
                 println!("| {s} | {steps} | {wall:.2} | {stress:.6e} | {err:.2e} |");
                 shpb.push((wall, err, s));
             }
-            None => println!("| {s} | | | unstable | |"),
+            None => println!("| {s} | | | stopped: omega dt > 2 | |"),
         }
     }
     plot_hertz(&hertz).unwrap();

@@ -185,7 +185,16 @@ fn run(
     let options = RunOptions {
         checkpoint_every: args.checkpoint_every,
     };
+    let mut warned = sim.warnings.len();
     let result = run_to_end(&mut sim, &mut dir, options, &mut |s| {
+        for w in &s.warnings[warned..] {
+            match &bar {
+                Some(bar) => bar.println(format!("warning: {w}")),
+                None if !quiet => eprintln!("warning: {w}"),
+                None => {}
+            }
+        }
+        warned = s.warnings.len();
         if let Some(bar) = &bar {
             bar.set_position(s.step);
             bar.set_message(format!(

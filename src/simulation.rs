@@ -42,6 +42,10 @@ pub struct Simulation {
     pub end_step: u64,
     /// Box height at the start of loading (m), the reference of the axial strain.
     pub height0: f64,
+    /// The largest `ω dt` seen at the output steps (see [`Simulation::check_stability`]).
+    pub max_omega_dt: f64,
+    /// Warnings for the user, in the order they arose.
+    pub warnings: Vec<String>,
     /// The run's worker threads; `None` runs everything on the caller's thread.
     pool: Option<Arc<rayon::ThreadPool>>,
 }
@@ -59,8 +63,14 @@ pub struct RunState {
     pub step: u64,
     pub dt: f64,
     pub height0: f64,
+    pub max_omega_dt: f64,
+    pub warnings: Vec<String>,
     pub effects: Vec<(String, Vec<u8>)>,
 }
+
+/// Above this estimated `ω dt` a run stops, above the second it warns.
+const OMEGA_DT_LIMIT: f64 = 2.0;
+const OMEGA_DT_WARN: f64 = 1.6;
 
 /// A pool of `threads` workers (0: one per core), or none for a single thread: then the run
 /// stays on the caller's thread and never hands work across threads.
@@ -170,6 +180,8 @@ impl Simulation {
             dt_rayleigh,
             end_step,
             height0,
+            max_omega_dt: 0.0,
+            warnings: Vec::new(),
             pool,
         };
         Ok(sim)
@@ -192,6 +204,8 @@ impl Simulation {
         sim.time = state.time;
         sim.step = state.step;
         sim.dt = state.dt;
+        sim.max_omega_dt = state.max_omega_dt;
+        sim.warnings = state.warnings;
         sim.end_step = (sim.loading.end_time() / sim.dt - 1e-9).ceil().max(1.0) as u64;
         Ok(sim)
     }
@@ -209,6 +223,8 @@ impl Simulation {
             step: self.step,
             dt: self.dt,
             height0: self.height0,
+            max_omega_dt: self.max_omega_dt,
+            warnings: self.warnings.clone(),
             effects: self.pipeline.save(),
         }
     }
@@ -246,6 +262,7 @@ impl Simulation {
                 self.step_once();
                 if self.step % self.scene.output.every == 0 || self.step == self.end_step {
                     self.check_finite()?;
+                    self.check_stability()?;
                     self.record_row();
                 }
             }
@@ -278,6 +295,29 @@ impl Simulation {
                 "the run became unstable at step {} (t = {:e} s): body {i} has a non-finite position or velocity; lower time.safety (now {}) or time.dt",
                 self.step, self.time, self.scene.time.safety
             )));
+        }
+        Ok(())
+    }
+
+    /// Velocity Verlet is stable while `ω dt < 2` for the highest frequency ω of the system.
+    /// Hertz contacts stiffen as they overlap, so a step chosen from the Rayleigh time can
+    /// become too long under heavy compaction: then the results go wrong before anything turns
+    /// infinite (SHPB to 10% strain: 1% off at an estimated ω dt of 1.7, 22% at 2.04). The
+    /// estimate is checked at every output step; above 2 the run stops, above 1.6 it warns.
+    fn check_stability(&mut self) -> Result<()> {
+        let omega_dt = self.pipeline.max_frequency(&self.bodies, &self.walls) * self.dt;
+        self.max_omega_dt = self.max_omega_dt.max(omega_dt);
+        if omega_dt > OMEGA_DT_LIMIT {
+            return Err(Error::run(format!(
+                "the time step is too long for the contacts at step {} (t = {:e} s): the stiffest body oscillates with omega dt = {omega_dt:.2}, and velocity Verlet needs less than 2; lower time.safety (now {}) or time.dt",
+                self.step, self.time, self.scene.time.safety
+            )));
+        }
+        if omega_dt > OMEGA_DT_WARN && !self.warnings.iter().any(|w| w.starts_with("omega dt")) {
+            self.warnings.push(format!(
+                "omega dt reached {omega_dt:.2} at step {} (t = {:e} s): contacts have stiffened enough that results lose accuracy (about 1% at 1.7); consider a lower time.safety",
+                self.step, self.time
+            ));
         }
         Ok(())
     }
@@ -335,6 +375,10 @@ impl Simulation {
             self.sample.solid_fraction.into(),
         );
         m.insert("contacts_final".into(), self.pipeline.contacts().into());
+        m.insert("max_omega_dt".into(), self.max_omega_dt.into());
+        if !self.warnings.is_empty() {
+            m.insert("warnings".into(), json!(self.warnings));
+        }
         m.insert(
             "kinetic_energy_final".into(),
             self.bodies.kinetic_energy().into(),

@@ -55,6 +55,11 @@ pub trait Effect: Send {
     fn history_len(&self) -> usize {
         0
     }
+    /// An upper estimate of the highest angular frequency (rad/s) this effect's springs give
+    /// any body at the current positions; 0 for effects without springs.
+    fn max_frequency(&self, _bodies: &Bodies, _walls: &Walls) -> f64 {
+        0.0
+    }
 }
 
 /// The effects of a scene in evaluation order.
@@ -106,6 +111,14 @@ impl Pipeline {
 
     pub fn history_len(&self) -> usize {
         self.effects.iter().map(|e| e.history_len()).sum()
+    }
+
+    /// The highest frequency estimate of all effects (rad/s).
+    pub fn max_frequency(&self, bodies: &Bodies, walls: &Walls) -> f64 {
+        self.effects
+            .iter()
+            .map(|e| e.max_frequency(bodies, walls))
+            .fold(0.0, f64::max)
     }
 
     pub fn save(&self) -> Vec<(String, Vec<u8>)> {
