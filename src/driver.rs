@@ -1,9 +1,9 @@
-//! Runs a simulation to its end, writing outputs on the way: what `fractum run` and
+//! Runs a model's run to its end, writing outputs on the way: what `fractum run` and
 //! `fractum resume` do, as a library function.
 
 use crate::error::Result;
 use crate::output::OutputDir;
-use crate::simulation::Simulation;
+use crate::run::Run;
 
 /// What to write besides series.csv and summary.json.
 #[derive(Debug, Clone, Copy, Default)]
@@ -16,44 +16,45 @@ fn next_multiple(step: u64, every: u64) -> u64 {
     (step / every + 1) * every
 }
 
-/// Advances `sim` to the end of its loading. `progress` is called every so often.
+/// Advances `run` to its end. `progress` is called every so often.
 pub fn run_to_end(
-    sim: &mut Simulation,
+    run: &mut dyn Run,
     out: &mut OutputDir,
     options: RunOptions,
-    progress: &mut dyn FnMut(&Simulation),
+    progress: &mut dyn FnMut(&dyn Run),
 ) -> Result<()> {
-    let vtk = sim.scene.output.vtk;
-    let report_every = (sim.end_step / 400).clamp(1, 2000);
-    if vtk > 0 && sim.step % vtk == 0 && !out.frames.iter().any(|f| f.0 == sim.time) {
-        out.write_snapshot(sim)?;
+    let vtk = run.scene().output.vtk;
+    let report_every = (run.end_step() / 400).clamp(1, 2000);
+    if vtk > 0 && run.step() % vtk == 0 && !out.frames.iter().any(|f| f.1 == run.step()) {
+        out.write_snapshot(run)?;
     }
-    while !sim.finished() {
-        let mut next = sim.end_step.min(next_multiple(sim.step, report_every));
+    while !run.finished() {
+        let step = run.step();
+        let mut next = run.end_step().min(next_multiple(step, report_every));
         if vtk > 0 {
-            next = next.min(next_multiple(sim.step, vtk));
+            next = next.min(next_multiple(step, vtk));
         }
         if let Some(every) = options.checkpoint_every {
-            next = next.min(next_multiple(sim.step, every));
+            next = next.min(next_multiple(step, every));
         }
-        sim.advance(next - sim.step)?;
+        run.advance(next - step)?;
         let mut wrote = false;
-        if vtk > 0 && (sim.step % vtk == 0 || sim.finished()) {
-            out.write_snapshot(sim)?;
+        if vtk > 0 && (run.step() % vtk == 0 || run.finished()) {
+            out.write_snapshot(run)?;
             wrote = true;
         }
         if let Some(every) = options.checkpoint_every {
-            if sim.step % every == 0 {
-                out.write_checkpoint(sim)?;
+            if run.step() % every == 0 {
+                out.write_checkpoint(run)?;
                 wrote = true;
             }
         }
         if wrote {
-            out.write_series(sim)?;
+            out.write_series(run)?;
         }
-        progress(sim);
+        progress(&*run);
     }
-    out.write_series(sim)?;
-    out.write_summary(sim)?;
+    out.write_series(run)?;
+    out.write_results(run)?;
     Ok(())
 }

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 use fractum::driver::{RunOptions, run_to_end};
 use fractum::output::{OutputDir, checkpoint};
-use fractum::{Error, Scene, Simulation};
+use fractum::{Error, Run, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 
 #[derive(Parser)]
@@ -104,7 +104,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             let say = messenger(options.quiet);
             say(&format!("{}: building the sample", scene.name));
             let mut note = |m: &str| say(m);
-            let sim = Simulation::new(scene, options.threads, &mut note)?;
+            let sim = fractum::run::build(scene, options.threads, &mut note)?;
             run(sim, out, Vec::new(), &options)
         }
         Command::Resume {
@@ -113,13 +113,11 @@ fn dispatch(command: Command) -> Result<(), Error> {
             options,
         } => {
             let (sim, frames) = checkpoint::load(&path, options.threads)?;
-            let frames = frames
-                .into_iter()
-                .filter(|(_, f)| out.join(f).exists())
-                .collect();
             messenger(options.quiet)(&format!(
                 "{}: resuming at step {} of {}",
-                sim.scene.name, sim.step, sim.end_step
+                sim.scene().name,
+                sim.step(),
+                sim.end_step()
             ));
             run(sim, out, frames, &options)
         }
@@ -152,26 +150,26 @@ fn messenger(quiet: bool) -> impl Fn(&str) {
 }
 
 fn run(
-    mut sim: Simulation,
+    mut sim: Box<dyn Run>,
     out: PathBuf,
-    frames: Vec<(f64, String)>,
+    frames: Vec<fractum::output::Frame>,
     args: &RunArgs,
 ) -> Result<(), Error> {
     let quiet = args.quiet;
     // The run is set up: only now may the output folder appear.
     let mut dir = OutputDir::create(&out)?;
-    dir.frames = frames;
+    dir.adopt_frames(frames);
     let say = messenger(quiet);
     say(&format!(
         "{}: {} bodies, {} steps of {:.3e} s on {} thread(s)",
-        sim.scene.name,
-        sim.bodies.len(),
-        sim.end_step - sim.step,
-        sim.dt,
+        sim.scene().name,
+        sim.bodies(),
+        sim.end_step() - sim.step(),
+        sim.dt(),
         sim.threads()
     ));
     let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
-        let bar = ProgressBar::new(sim.end_step);
+        let bar = ProgressBar::new(sim.end_step());
         bar.set_style(
             ProgressStyle::with_template(
                 "{elapsed_precise} [{bar:40}] {pos}/{len} steps  {msg}  eta {eta}",
@@ -179,44 +177,36 @@ fn run(
             .expect("valid template")
             .progress_chars("=> "),
         );
-        bar.set_position(sim.step);
+        bar.set_position(sim.step());
         bar
     });
     let options = RunOptions {
         checkpoint_every: args.checkpoint_every,
     };
-    let mut warned = sim.warnings.len();
-    let result = run_to_end(&mut sim, &mut dir, options, &mut |s| {
-        for w in &s.warnings[warned..] {
+    let mut warned = sim.warnings().len();
+    let result = run_to_end(sim.as_mut(), &mut dir, options, &mut |s| {
+        for w in &s.warnings()[warned..] {
             match &bar {
                 Some(bar) => bar.println(format!("warning: {w}")),
                 None if !quiet => eprintln!("warning: {w}"),
                 None => {}
             }
         }
-        warned = s.warnings.len();
+        warned = s.warnings().len();
         if let Some(bar) = &bar {
-            bar.set_position(s.step);
-            bar.set_message(format!(
-                "t = {:.4e} s, strain {:.4}",
-                s.time,
-                s.axial_strain()
-            ));
+            bar.set_position(s.step());
+            bar.set_message(s.status());
         }
     });
     if let Some(bar) = &bar {
         bar.finish_and_clear();
     }
     result?;
+    let pvd: String = dir.indexes.iter().map(|i| format!(", {i}")).collect();
     say(&format!(
-        "{}: done; outputs in {} (series.csv, summary.json{})",
-        sim.scene.name,
+        "{}: done; outputs in {} (series.csv, summary.json{pvd})",
+        sim.scene().name,
         out.display(),
-        if sim.scene.output.vtk > 0 {
-            ", particles.pvd"
-        } else {
-            ""
-        }
     ));
     Ok(())
 }

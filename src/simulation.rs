@@ -10,13 +10,15 @@
 
 use std::sync::Arc;
 
-use serde_json::{Map, Value, json};
+use serde_json::Value;
 
 use crate::effects::{Pipeline, StepContext};
 use crate::error::{Error, Result};
 use crate::integrate::{VelocityVerlet, rayleigh_time_step};
 use crate::loading::Loading;
+use crate::output::vtk;
 use crate::probe::{self, Series};
+use crate::run::{self, Run};
 use crate::sample::{self, Sample, SampleInfo};
 use crate::scene::{DtSpec, Scene};
 use crate::state::{Bodies, Forces, Walls};
@@ -344,27 +346,10 @@ impl Simulation {
         }
     }
 
-    /// The results of the run so far; identical for identical scenes, seeds and builds.
+    /// The results of the run so far; identical for identical scenes, seeds, thread counts
+    /// and builds.
     pub fn summary(&self) -> Value {
-        let mut m = Map::new();
-        m.insert("name".into(), self.scene.name.clone().into());
-        m.insert("model".into(), "granular".into());
-        m.insert("fractum_version".into(), env!("CARGO_PKG_VERSION").into());
-        m.insert("seed".into(), self.scene.seed.into());
-        m.insert("bodies".into(), self.bodies.len().into());
-        m.insert(
-            "effects".into(),
-            json!(
-                self.scene
-                    .effects
-                    .iter()
-                    .map(|e| e.as_str())
-                    .collect::<Vec<_>>()
-            ),
-        );
-        m.insert("steps".into(), self.step.into());
-        m.insert("time".into(), self.time.into());
-        m.insert("dt".into(), self.dt.into());
+        let mut m = run::common_summary(self);
         m.insert("dt_rayleigh".into(), self.dt_rayleigh.into());
         m.insert(
             "sample".into(),
@@ -376,14 +361,70 @@ impl Simulation {
         );
         m.insert("contacts_final".into(), self.pipeline.contacts().into());
         m.insert("max_omega_dt".into(), self.max_omega_dt.into());
-        if !self.warnings.is_empty() {
-            m.insert("warnings".into(), json!(self.warnings));
-        }
         m.insert(
             "kinetic_energy_final".into(),
             self.bodies.kinetic_energy().into(),
         );
         self.loading.summarize(&self.series, &mut m);
         Value::Object(m)
+    }
+
+    /// Restores a run from the bytes [`Run::save_state`] wrote.
+    pub fn restore(scene: Scene, state: &[u8], threads: usize) -> Result<Self> {
+        let state: RunState = postcard::from_bytes(state)
+            .map_err(|e| Error::run(format!("the checkpoint's granular state is damaged ({e})")))?;
+        Simulation::from_state(scene, state, threads)
+    }
+}
+
+impl Run for Simulation {
+    fn scene(&self) -> &Scene {
+        &self.scene
+    }
+    fn model(&self) -> &'static str {
+        "granular"
+    }
+    fn bodies(&self) -> usize {
+        self.bodies.len()
+    }
+    fn step(&self) -> u64 {
+        self.step
+    }
+    fn end_step(&self) -> u64 {
+        self.end_step
+    }
+    fn time(&self) -> f64 {
+        self.time
+    }
+    fn dt(&self) -> f64 {
+        self.dt
+    }
+    fn threads(&self) -> usize {
+        Simulation::threads(self)
+    }
+    fn advance(&mut self, steps: u64) -> Result<()> {
+        Simulation::advance(self, steps)
+    }
+    fn series(&self) -> &Series {
+        &self.series
+    }
+    fn summary(&self) -> Value {
+        Simulation::summary(self)
+    }
+    fn snapshot(&self) -> Vec<(&'static str, String)> {
+        let mut files = vec![("particles", vtk::particles_vtu(&self.bodies, &self.forces))];
+        if self.walls.is_box {
+            files.push(("walls", vtk::box_walls_vtu(&self.walls)));
+        }
+        files
+    }
+    fn save_state(&self) -> Vec<u8> {
+        postcard::to_stdvec(&self.state()).expect("the granular state serialises")
+    }
+    fn status(&self) -> String {
+        format!("t = {:.4e} s, strain {:.4}", self.time, self.axial_strain())
+    }
+    fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 }

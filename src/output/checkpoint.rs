@@ -5,37 +5,41 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use super::Frame;
 use crate::error::{Error, Result};
+use crate::run::{self, Run};
 use crate::scene::{Scene, io_reason};
-use crate::simulation::{RunState, Simulation};
 
 const MAGIC: &[u8; 8] = b"FRACTUM\x01";
-const FORMAT_VERSION: u32 = 1;
+const FORMAT_VERSION: u32 = 2;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {
     format_version: u32,
     fractum_version: String,
+    model: String,
     scene_text: String,
     scene_label: String,
     scene_dir: String,
     overrides: Vec<String>,
-    frames: Vec<(f64, String)>,
-    state: RunState,
+    frames: Vec<Frame>,
+    /// The model's own state ([`Run::save_state`]).
+    state: Vec<u8>,
 }
 
 /// The checkpoint bytes of a run.
-pub fn encode(sim: &Simulation, frames: &[(f64, String)]) -> Vec<u8> {
-    let src = &sim.scene.source;
+pub fn encode(run: &dyn Run, frames: &[Frame]) -> Vec<u8> {
+    let src = &run.scene().source;
     let ck = Checkpoint {
         format_version: FORMAT_VERSION,
         fractum_version: env!("CARGO_PKG_VERSION").to_string(),
+        model: run.model().to_string(),
         scene_text: src.text.clone(),
         scene_label: src.label.clone(),
         scene_dir: src.dir.to_string_lossy().to_string(),
         overrides: src.overrides.clone(),
         frames: frames.to_vec(),
-        state: sim.state(),
+        state: run.save_state(),
     };
     let mut bytes = MAGIC.to_vec();
     bytes.extend(postcard::to_stdvec(&ck).expect("checkpoint serialises"));
@@ -43,11 +47,7 @@ pub fn encode(sim: &Simulation, frames: &[(f64, String)]) -> Vec<u8> {
 }
 
 /// A run restored from checkpoint bytes, with the VTK frames it had written.
-pub fn decode(
-    bytes: &[u8],
-    origin: &str,
-    threads: usize,
-) -> Result<(Simulation, Vec<(f64, String)>)> {
+pub fn decode(bytes: &[u8], origin: &str, threads: usize) -> Result<(Box<dyn Run>, Vec<Frame>)> {
     let body = bytes
         .strip_prefix(MAGIC.as_slice())
         .ok_or_else(|| Error::input(origin, "is not a Fractum checkpoint"))?;
@@ -68,12 +68,22 @@ pub fn decode(
         Path::new(&ck.scene_dir),
         &ck.overrides,
     )?;
-    let sim = Simulation::from_state(scene, ck.state, threads)?;
-    Ok((sim, ck.frames))
+    let run = run::restore(scene, &ck.state, threads)?;
+    if run.model() != ck.model {
+        return Err(Error::input(
+            origin,
+            format!(
+                "holds a {} run but its scene builds a {} one",
+                ck.model,
+                run.model()
+            ),
+        ));
+    }
+    Ok((run, ck.frames))
 }
 
 /// Reads a checkpoint file.
-pub fn load(path: &Path, threads: usize) -> Result<(Simulation, Vec<(f64, String)>)> {
+pub fn load(path: &Path, threads: usize) -> Result<(Box<dyn Run>, Vec<Frame>)> {
     let origin = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| {
         Error::input(

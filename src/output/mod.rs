@@ -8,7 +8,7 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use crate::error::{Error, Result};
-use crate::simulation::Simulation;
+use crate::run::Run;
 
 /// Writes `bytes` to `path` atomically: a temporary file beside it, flushed, then renamed.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
@@ -30,11 +30,20 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     })
 }
 
+/// A VTK snapshot already written: its time (s) and step.
+pub type Frame = (f64, u64);
+
 /// The output folder of a run.
 pub struct OutputDir {
     pub path: PathBuf,
-    /// VTK frames written so far: (time, file relative to `path`).
-    pub frames: Vec<(f64, String)>,
+    /// VTK snapshots written so far.
+    pub frames: Vec<Frame>,
+    /// The .pvd indexes written (one per snapshot stem).
+    pub indexes: Vec<String>,
+}
+
+fn snapshot_name(stem: &str, step: u64) -> String {
+    format!("vtk/{stem}_{step:09}.vtu")
 }
 
 impl OutputDir {
@@ -46,6 +55,7 @@ impl OutputDir {
         Ok(OutputDir {
             path: path.to_path_buf(),
             frames: Vec::new(),
+            indexes: Vec::new(),
         })
     }
 
@@ -53,56 +63,73 @@ impl OutputDir {
         self.path.join(name)
     }
 
-    /// series.csv with every row so far.
-    pub fn write_series(&self, sim: &Simulation) -> Result<()> {
-        write_atomic(&self.file("series.csv"), sim.series.to_csv().as_bytes())
+    /// Keeps those of `frames` whose files are in this folder (a resumed run writing
+    /// elsewhere lists only its own).
+    pub fn adopt_frames(&mut self, frames: Vec<Frame>) {
+        let dir = self.file("vtk");
+        self.frames = frames
+            .into_iter()
+            .filter(|(_, step)| {
+                std::fs::read_dir(&dir).is_ok_and(|entries| {
+                    let tail = format!("_{step:09}.vtu");
+                    entries
+                        .flatten()
+                        .any(|e| e.file_name().to_string_lossy().ends_with(&tail))
+                })
+            })
+            .collect();
     }
 
-    /// summary.json.
-    pub fn write_summary(&self, sim: &Simulation) -> Result<()> {
-        let mut text = serde_json::to_string_pretty(&sim.summary()).expect("summary serialises");
+    /// series.csv with every row so far.
+    pub fn write_series(&self, run: &dyn Run) -> Result<()> {
+        write_atomic(&self.file("series.csv"), run.series().to_csv().as_bytes())
+    }
+
+    /// summary.json and the model's further result files.
+    pub fn write_results(&self, run: &dyn Run) -> Result<()> {
+        for (name, bytes) in run.extra_outputs() {
+            write_atomic(&self.file(&name), &bytes)?;
+        }
+        let mut text = serde_json::to_string_pretty(&run.summary()).expect("summary serialises");
         text.push('\n');
         write_atomic(&self.file("summary.json"), text.as_bytes())
     }
 
-    /// A VTK snapshot of the particles (and of the box walls), and the .pvd index that lists
-    /// every snapshot so far for ParaView.
-    pub fn write_snapshot(&mut self, sim: &Simulation) -> Result<()> {
+    /// A VTK snapshot of the run (one .vtu per stem: particles, walls, ...) and, per stem, the
+    /// .pvd index of every snapshot so far, for ParaView.
+    pub fn write_snapshot(&mut self, run: &dyn Run) -> Result<()> {
         let dir = self.file("vtk");
         std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, "create the folder", e))?;
-        let name = format!("vtk/particles_{:09}.vtu", sim.step);
-        write_atomic(
-            &self.file(&name),
-            vtk::particles_vtu(&sim.bodies, &sim.forces).as_bytes(),
-        )?;
-        if sim.walls.is_box {
-            let wname = format!("vtk/walls_{:09}.vtu", sim.step);
+        let files = run.snapshot();
+        for (stem, text) in &files {
             write_atomic(
-                &self.file(&wname),
-                vtk::box_walls_vtu(&sim.walls).as_bytes(),
+                &self.file(&snapshot_name(stem, run.step())),
+                text.as_bytes(),
             )?;
         }
-        self.frames.retain(|(t, _)| *t < sim.time);
-        self.frames.push((sim.time, name));
-        write_atomic(
-            &self.file("particles.pvd"),
-            vtk::pvd(&self.frames, "").as_bytes(),
-        )?;
-        if sim.walls.is_box {
-            write_atomic(
-                &self.file("walls.pvd"),
-                vtk::pvd(&self.frames, "walls").as_bytes(),
-            )?;
+        self.frames.retain(|(t, _)| *t < run.time());
+        self.frames.push((run.time(), run.step()));
+        for (stem, _) in &files {
+            let listed: Vec<(f64, String)> = self
+                .frames
+                .iter()
+                .map(|(t, step)| (*t, snapshot_name(stem, *step)))
+                .collect();
+            let index = format!("{stem}.pvd");
+            write_atomic(&self.file(&index), vtk::pvd(&listed).as_bytes())?;
+            if !self.indexes.contains(&index) {
+                self.indexes.push(index);
+            }
         }
         Ok(())
     }
 
     /// A checkpoint of the whole run at its current step; returns its path.
-    pub fn write_checkpoint(&self, sim: &Simulation) -> Result<PathBuf> {
+    pub fn write_checkpoint(&self, run: &dyn Run) -> Result<PathBuf> {
         let dir = self.file("checkpoints");
         std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, "create the folder", e))?;
-        let path = dir.join(format!("step_{:09}.fcp", sim.step));
-        let bytes = checkpoint::encode(sim, &self.frames);
+        let path = dir.join(format!("step_{:09}.fcp", run.step()));
+        let bytes = checkpoint::encode(run, &self.frames);
         write_atomic(&path, &bytes)?;
         Ok(path)
     }

@@ -140,18 +140,12 @@ pub fn box_walls_vtu(walls: &Walls) -> String {
     out
 }
 
-/// A .pvd collection of `frames` (time, file). With a non-empty `part`, file names
-/// `…particles_N.vtu` are listed as `…{part}_N.vtu`.
-pub fn pvd(frames: &[(f64, String)], part: &str) -> String {
+/// A .pvd collection of `frames` (time, file relative to the .pvd).
+pub fn pvd(frames: &[(f64, String)]) -> String {
     let mut out = String::from(
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\" byte_order=\"LittleEndian\">\n  <Collection>\n",
     );
     for (t, file) in frames {
-        let file = if part.is_empty() {
-            file.clone()
-        } else {
-            file.replace("particles_", &format!("{part}_"))
-        };
         let _ = writeln!(
             out,
             "    <DataSet timestep=\"{t:e}\" group=\"\" part=\"0\" file=\"{file}\"/>"
