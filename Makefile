@@ -5,7 +5,7 @@
 CARGO ?= cargo
 OUT ?= out
 
-.PHONY: run test bench build fmt clippy clean
+.PHONY: run test bench build fmt clippy clean header
 
 run:
 	$(CARGO) run --release -- run scenes/shpb_sand.toml --out $(OUT)/shpb_sand
@@ -27,3 +27,7 @@ clippy:
 
 clean:
 	$(CARGO) clean
+
+# Regenerate include/fractum.h from ffi/src/lib.rs (cbindgen).
+header:
+	FRACTUM_WRITE_HEADER=1 $(CARGO) test --release -p fractum-ffi --test header

@@ -21,7 +21,7 @@ use crate::probe::{self, Series};
 use crate::run::{self, Run};
 use crate::sample::{self, Sample, SampleInfo};
 use crate::scene::{DtSpec, Scene};
-use crate::state::{Bodies, Forces, Walls};
+use crate::state::{Bodies, BoxFace, Forces, Walls};
 
 pub struct Simulation {
     pub scene: Scene,
@@ -68,6 +68,15 @@ pub struct RunState {
     pub max_omega_dt: f64,
     pub warnings: Vec<String>,
     pub effects: Vec<(String, Vec<u8>)>,
+}
+
+/// The step at which a loading of `end_time` seconds ends (unbounded for an endless one).
+fn end_step(end_time: f64, dt: f64) -> u64 {
+    if end_time.is_finite() {
+        (end_time / dt - 1e-9).ceil().max(1.0) as u64
+    } else {
+        u64::MAX
+    }
 }
 
 /// Above this estimated `ω dt` a run stops, above the second it warns.
@@ -159,7 +168,7 @@ impl Simulation {
             DtSpec::Auto => scene.time.safety * dt_rayleigh,
             DtSpec::Seconds(s) => s,
         };
-        let end_step = (loading.end_time() / dt - 1e-9).ceil().max(1.0) as u64;
+        let end_step = end_step(loading.end_time(), dt);
         let series = if walls.is_box {
             Series::new(&probe::BOX_COLUMNS)
         } else {
@@ -208,7 +217,7 @@ impl Simulation {
         sim.dt = state.dt;
         sim.max_omega_dt = state.max_omega_dt;
         sim.warnings = state.warnings;
-        sim.end_step = (sim.loading.end_time() / sim.dt - 1e-9).ceil().max(1.0) as u64;
+        sim.end_step = end_step(sim.loading.end_time(), sim.dt);
         Ok(sim)
     }
 
@@ -273,7 +282,11 @@ impl Simulation {
     }
 
     fn step_once(&mut self) {
-        let dt = self.dt;
+        self.step_by(self.dt);
+    }
+
+    /// One step of `dt` (the run's step, or a shorter one that lands on a requested time).
+    fn step_by(&mut self, dt: f64) {
         self.loading.apply(&mut self.walls);
         self.integrator
             .kick_drift(&mut self.bodies, &self.forces, dt);
@@ -288,7 +301,86 @@ impl Simulation {
             .accumulate(&ctx, &self.bodies, &mut self.walls, &mut self.forces);
         self.integrator.kick(&mut self.bodies, &self.forces, dt);
         self.step += 1;
-        self.time = self.step as f64 * dt;
+        self.time += dt;
+    }
+
+    /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
+    /// The step size, not the distance to `time`, sets the accuracy. Series rows are recorded
+    /// every `output.every` steps as in [`Simulation::advance`].
+    pub fn advance_to(&mut self, time: f64) -> Result<()> {
+        if !time.is_finite() || time < self.time {
+            return Err(Error::run(format!(
+                "cannot advance to t = {time:e} s from t = {:e} s",
+                self.time
+            )));
+        }
+        let pool = self.pool.clone();
+        on_threads(&pool, || {
+            // A remainder below this is rounding, not a step to take.
+            let tiny = 1e-9 * self.dt;
+            while time - self.time > tiny {
+                let h = (time - self.time).min(self.dt);
+                if time - self.time - h <= tiny {
+                    self.step_by(time - self.time);
+                    self.time = time;
+                } else {
+                    self.step_by(h);
+                }
+                if self.step % self.scene.output.every == 0 {
+                    self.check_finite()?;
+                    self.check_stability()?;
+                    self.record_row();
+                }
+            }
+            Ok(())
+        })
+    }
+
+    /// Drives the top (z+) and bottom (z-) faces from outside from now on, at `top` and
+    /// `bottom` m/s into the sample (compression positive); the run then has no end of its
+    /// own. Needs a sample in a box.
+    pub fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()> {
+        if !self.walls.is_box {
+            return Err(Error::run(
+                "face speeds need a sample in a box (random, lattice or file packing)",
+            ));
+        }
+        if !(top.is_finite() && bottom.is_finite()) {
+            return Err(Error::run(format!(
+                "face speeds must be finite, got top {top} and bottom {bottom} m/s"
+            )));
+        }
+        self.loading = Loading::Faces { top, bottom };
+        self.end_step = u64::MAX;
+        Ok(())
+    }
+
+    /// Compressive normal force (N) on the top (z+) and bottom (z-) faces.
+    pub fn face_forces(&self) -> (f64, f64) {
+        if !self.walls.is_box {
+            return (0.0, 0.0);
+        }
+        (
+            self.walls.face(BoxFace::ZMax).normal_force(),
+            self.walls.face(BoxFace::ZMin).normal_force(),
+        )
+    }
+
+    /// Compressive normal stress (Pa) on the top (z+) and bottom (z-) faces.
+    pub fn face_stresses(&self) -> (f64, f64) {
+        if !self.walls.is_box {
+            return (0.0, 0.0);
+        }
+        (
+            self.walls.face_stress(BoxFace::ZMax),
+            self.walls.face_stress(BoxFace::ZMin),
+        )
+    }
+
+    /// Face area (m²) of the top and bottom faces.
+    pub fn face_area(&self) -> f64 {
+        let size = self.walls.box_size();
+        size.x * size.y
     }
 
     fn check_finite(&self) -> Result<()> {

@@ -20,6 +20,10 @@ pub enum Loading {
         /// Box height at the start of loading (m).
         height0: f64,
     },
+    /// The top (z+) and bottom (z-) faces move at speeds set from outside (an embedding host,
+    /// an FMU): positive speeds move a face into the sample (compression positive), as the
+    /// incident and transmitted bars of a split Hopkinson pressure bar do. No end of its own.
+    Faces { top: f64, bottom: f64 },
 }
 
 impl Loading {
@@ -47,14 +51,22 @@ impl Loading {
 
     /// Sets the wall velocities for the coming step.
     pub fn apply(&self, walls: &mut Walls) {
-        if let Loading::Oedometer {
-            strain_rate,
-            height0,
-            ..
-        } = self
-        {
-            let top = walls.face_mut(BoxFace::ZMax);
-            top.velocity = top.normal * (strain_rate * height0);
+        match self {
+            Loading::None { .. } => {}
+            Loading::Oedometer {
+                strain_rate,
+                height0,
+                ..
+            } => {
+                let top = walls.face_mut(BoxFace::ZMax);
+                top.velocity = top.normal * (strain_rate * height0);
+            }
+            Loading::Faces { top, bottom } => {
+                for (face, speed) in [(BoxFace::ZMax, top), (BoxFace::ZMin, bottom)] {
+                    let wall = walls.face_mut(face);
+                    wall.velocity = wall.normal * *speed;
+                }
+            }
         }
     }
 
@@ -67,6 +79,7 @@ impl Loading {
                 end_strain,
                 ..
             } => end_strain / strain_rate,
+            Loading::Faces { .. } => f64::INFINITY,
         }
     }
 
@@ -80,6 +93,9 @@ impl Loading {
             } => format!(
                 "oedometer: top wall (z+) moves down at {strain_rate} 1/s x {height0:e} m = {:e} m/s to axial strain {end_strain}; the other five walls are fixed",
                 strain_rate * height0
+            ),
+            Loading::Faces { top, bottom } => format!(
+                "faces driven from outside: top (z+) at {top} m/s and bottom (z-) at {bottom} m/s into the sample"
             ),
         }
     }
