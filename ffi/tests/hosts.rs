@@ -11,16 +11,24 @@ fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// The folder holding libfractum.so for this test's profile.
+/// The folder holding libfractum.so for this test's profile. `cargo test` builds no cdylib
+/// for integration tests, so on a clean tree the library is built here first.
 fn lib_dir() -> PathBuf {
     let exe = std::env::current_exe().unwrap();
-    let deps = exe.parent().unwrap();
-    for dir in [deps.parent().unwrap(), deps] {
-        if dir.join("libfractum.so").exists() {
-            return dir.to_path_buf();
+    let profile_dir = exe.parent().unwrap().parent().unwrap().to_path_buf();
+    let lib = profile_dir.join("libfractum.so");
+    if !lib.exists() {
+        let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".to_string());
+        let mut build = Command::new(cargo);
+        build.args(["build", "-p", "fractum-ffi", "--lib"]);
+        if profile_dir.file_name().is_some_and(|n| n == "release") {
+            build.arg("--release");
         }
+        let status = build.current_dir(repo()).status().expect("cargo runs");
+        assert!(status.success(), "cargo builds libfractum.so");
     }
-    panic!("libfractum.so not found next to {}", exe.display());
+    assert!(lib.exists(), "{} was built", lib.display());
+    profile_dir
 }
 
 fn compile_and_run(compiler: &str, source: &str, std: &str) -> String {
