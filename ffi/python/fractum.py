@@ -1,0 +1,221 @@
+"""Fractum from Python: a ctypes wrapper over libfractum.so, returning numpy arrays.
+
+Works in plain Python (3.8+) and in YADE's Python. The library is found through
+$FRACTUM_LIB, else next to this file in the repository's target/release/, else by the
+system loader ("libfractum.so").
+
+    import fractum
+    with fractum.Simulation("scenes/shpb_sand.toml", overrides=["output.vtk=0"]) as sim:
+        sim.set_face_speeds(3.0, 0.0)          # m/s into the sample, top and bottom
+        sim.advance_to(1e-5)                   # s, lands exactly
+        top, bottom, area = sim.face_stresses()  # Pa, Pa, m^2
+        xyz = sim.positions()                  # (n, 3) array, m
+
+Every failure raises FractumError with the library's status and its one-sentence message.
+"""
+
+import ctypes
+import os
+
+import numpy as np
+
+__all__ = ["Simulation", "FractumError", "version", "load_library"]
+
+_STATUS = {
+    0: "FRACTUM_OK",
+    1: "FRACTUM_ERR_NULL",
+    2: "FRACTUM_ERR_HANDLE",
+    3: "FRACTUM_ERR_INPUT",
+    4: "FRACTUM_ERR_RUN",
+    5: "FRACTUM_ERR_BUFFER",
+    6: "FRACTUM_ERR_INTERNAL",
+}
+
+
+class FractumError(RuntimeError):
+    """A call into libfractum failed: `status` names the status code, `message` says why."""
+
+    def __init__(self, status, message):
+        self.status = _STATUS.get(status, str(status))
+        self.message = message
+        super().__init__("%s: %s" % (self.status, message))
+
+
+_lib = None
+
+
+def load_library(path=None):
+    """Loads libfractum.so (once) and declares its functions."""
+    global _lib
+    if _lib is not None and path is None:
+        return _lib
+    candidates = [path, os.environ.get("FRACTUM_LIB")]
+    here = os.path.dirname(os.path.abspath(__file__))
+    candidates.append(os.path.join(here, "..", "..", "target", "release", "libfractum.so"))
+    candidates.append("libfractum.so")
+    last = None
+    for c in candidates:
+        if not c:
+            continue
+        try:
+            lib = ctypes.CDLL(c)
+            break
+        except OSError as e:
+            last = e
+    else:
+        raise OSError("libfractum.so not found (set FRACTUM_LIB): %s" % last)
+    d, u64, sz, p = ctypes.c_double, ctypes.c_uint64, ctypes.c_size_t, ctypes.POINTER
+    st = ctypes.c_int
+    sigs = {
+        "fractum_create_from_file": [ctypes.c_char_p, p(ctypes.c_char_p), sz, ctypes.c_int32, p(u64)],
+        "fractum_create_from_text": [ctypes.c_char_p, ctypes.c_char_p, p(ctypes.c_char_p), sz, ctypes.c_int32, p(u64)],
+        "fractum_free": [u64],
+        "fractum_advance_to": [u64, d],
+        "fractum_set_face_speeds": [u64, d, d],
+        "fractum_face_forces": [u64, p(d), p(d)],
+        "fractum_face_stresses": [u64, p(d), p(d), p(d)],
+        "fractum_progress": [u64, p(d), p(d), p(u64)],
+        "fractum_counts": [u64, p(u64), p(u64), p(d)],
+        "fractum_copy_positions": [u64, p(d), sz],
+        "fractum_copy_velocities": [u64, p(d), sz],
+        "fractum_copy_radii": [u64, p(d), sz],
+        "fractum_state_size": [u64, p(sz)],
+        "fractum_save_state": [u64, p(ctypes.c_uint8), sz, p(sz)],
+        "fractum_restore_state": [u64, p(ctypes.c_uint8), sz],
+        "fractum_reset": [u64],
+    }
+    for name, args in sigs.items():
+        f = getattr(lib, name)
+        f.argtypes = args
+        f.restype = st
+    lib.fractum_version.argtypes = []
+    lib.fractum_version.restype = ctypes.c_char_p
+    lib.fractum_last_error.argtypes = []
+    lib.fractum_last_error.restype = ctypes.c_char_p
+    _lib = lib
+    return lib
+
+
+def _check(status):
+    if status != 0:
+        raise FractumError(status, load_library().fractum_last_error().decode("utf-8", "replace"))
+
+
+def version():
+    """The library's version string."""
+    return load_library().fractum_version().decode()
+
+
+def _strings(items):
+    items = [s.encode() for s in items]
+    return (ctypes.c_char_p * max(len(items), 1))(*items), len(items)
+
+
+class Simulation:
+    """One simulation inside libfractum. Use it as a context manager, or call close()."""
+
+    def __init__(self, scene=None, text=None, base_dir=None, overrides=(), threads=1):
+        lib = load_library()
+        arr, n = _strings(list(overrides))
+        handle = ctypes.c_uint64(0)
+        if (scene is None) == (text is None):
+            raise ValueError("give exactly one of scene (a path) or text (TOML)")
+        if scene is not None:
+            _check(lib.fractum_create_from_file(os.fsencode(scene), arr, n, threads, ctypes.byref(handle)))
+        else:
+            base = os.fsencode(base_dir) if base_dir is not None else None
+            _check(lib.fractum_create_from_text(text.encode(), base, arr, n, threads, ctypes.byref(handle)))
+        self._h = handle.value
+
+    def close(self):
+        """Frees the simulation; further calls raise FractumError (FRACTUM_ERR_HANDLE)."""
+        if self._h:
+            h, self._h = self._h, 0
+            _check(load_library().fractum_free(h))
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *exc):
+        self.close()
+
+    def __del__(self):
+        try:
+            self.close()
+        except Exception:
+            pass
+
+    @property
+    def handle(self):
+        return self._h
+
+    def _call(self, name, *args):
+        _check(getattr(load_library(), name)(self._h, *args))
+
+    def set_face_speeds(self, top, bottom):
+        """Top (z+) and bottom (z-) faces move into the sample at these speeds (m/s)."""
+        self._call("fractum_set_face_speeds", float(top), float(bottom))
+
+    def advance_to(self, time):
+        """Advances to exactly `time` (s)."""
+        self._call("fractum_advance_to", float(time))
+
+    def face_forces(self):
+        """Compressive normal forces (N) on the top and bottom faces."""
+        t, b = ctypes.c_double(), ctypes.c_double()
+        self._call("fractum_face_forces", ctypes.byref(t), ctypes.byref(b))
+        return t.value, b.value
+
+    def face_stresses(self):
+        """Compressive normal stresses (Pa) on the top and bottom faces, and their area (m^2)."""
+        t, b, a = ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
+        self._call("fractum_face_stresses", ctypes.byref(t), ctypes.byref(b), ctypes.byref(a))
+        return t.value, b.value, a.value
+
+    def progress(self):
+        """(time in s, axial strain, steps taken)."""
+        t, s, n = ctypes.c_double(), ctypes.c_double(), ctypes.c_uint64()
+        self._call("fractum_progress", ctypes.byref(t), ctypes.byref(s), ctypes.byref(n))
+        return t.value, s.value, n.value
+
+    def counts(self):
+        """(bodies, body-body contacts, kinetic energy in J)."""
+        b, c, k = ctypes.c_uint64(), ctypes.c_uint64(), ctypes.c_double()
+        self._call("fractum_counts", ctypes.byref(b), ctypes.byref(c), ctypes.byref(k))
+        return b.value, c.value, k.value
+
+    def _array(self, name, per_body):
+        n = self.counts()[0]
+        out = np.empty(n * per_body, dtype=np.float64)
+        self._call(name, out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), out.size)
+        return out.reshape(n, per_body) if per_body > 1 else out
+
+    def positions(self):
+        """Centres (m) as an (n, 3) array."""
+        return self._array("fractum_copy_positions", 3)
+
+    def velocities(self):
+        """Velocities (m/s) as an (n, 3) array."""
+        return self._array("fractum_copy_velocities", 3)
+
+    def radii(self):
+        """Radii (m) as an (n,) array."""
+        return self._array("fractum_copy_radii", 1)
+
+    def save_state(self):
+        """The whole state as bytes."""
+        size = ctypes.c_size_t()
+        self._call("fractum_state_size", ctypes.byref(size))
+        buf = (ctypes.c_uint8 * size.value)()
+        written = ctypes.c_size_t()
+        self._call("fractum_save_state", buf, size.value, ctypes.byref(written))
+        return bytes(buf[: written.value])
+
+    def restore_state(self, state):
+        """Restores bytes from save_state(); the run then continues bit for bit."""
+        buf = (ctypes.c_uint8 * len(state)).from_buffer_copy(state)
+        self._call("fractum_restore_state", buf, len(state))
+
+    def reset(self):
+        """Back to the state right after creation."""
+        self._call("fractum_reset")
