@@ -5,7 +5,7 @@
 CARGO ?= cargo
 OUT ?= out
 
-.PHONY: run test bench build fmt clippy clean header
+.PHONY: run test bench build fmt clippy clean header fmu
 
 run:
 	$(CARGO) run --release -- run scenes/shpb_sand.toml --out $(OUT)/shpb_sand
@@ -31,3 +31,7 @@ clean:
 # Regenerate include/fractum.h from ffi/src/lib.rs (cbindgen).
 header:
 	FRACTUM_WRITE_HEADER=1 $(CARGO) test --release -p fractum-ffi --test header
+
+# The FMI 2.0 co-simulation FMU, packed into dist/Fractum.fmu.
+fmu:
+	bash scripts/pack_fmu.sh

@@ -1,10 +1,23 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it on a clean clone. It installs what it needs itself:
-# Python packages go into a local virtual environment, .venv/.
+# Debian packages with apt-get (libclang-dev, for the FMU crate's FMI bindings), Python
+# packages into a local virtual environment, .venv/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 step() { printf '\n== %s\n' "$*"; }
+
+step "Debian packages"
+missing=()
+for pkg in libclang-dev; do
+    dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
+done
+if [ ${#missing[@]} -gt 0 ]; then
+    sudo=""
+    [ "$(id -u)" -eq 0 ] || sudo="sudo"
+    $sudo apt-get update -qq
+    $sudo env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq "${missing[@]}"
+fi
 
 step "formatting"
 cargo fmt --all -- --check
@@ -15,11 +28,14 @@ cargo clippy --workspace --all-targets --release -- -D warnings
 step "Rust unit and integration tests (optimised: they are physics runs)"
 cargo test --workspace --release
 
-step "Python environment (.venv: numpy, pytest)"
+step "Python environment (.venv: numpy, pytest, fmpy)"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-.venv/bin/python -m pip install --quiet --disable-pip-version-check numpy pytest
+.venv/bin/python -m pip install --quiet --disable-pip-version-check numpy pytest fmpy
+
+step "FMU (dist/Fractum.fmu)"
+bash scripts/pack_fmu.sh
 
 step "Python tests (tests/python)"
 cargo build --release -p fractum-ffi

@@ -377,6 +377,12 @@ impl Simulation {
         )
     }
 
+    /// Particles broken so far. The sphere model has no particle fracture, so none; the
+    /// granular fracture model counts them here.
+    pub fn broken_particles(&self) -> usize {
+        0
+    }
+
     /// Face area (m²) of the top and bottom faces.
     pub fn face_area(&self) -> f64 {
         let size = self.walls.box_size();

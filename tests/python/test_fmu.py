@@ -1,0 +1,196 @@
+"""The FMI 2.0 co-simulation FMU (dist/Fractum.fmu, packed by `make fmu`) under fmpy."""
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from fmpy import extract, read_model_description, simulate_fmu
+from fmpy.fmi2 import FMU2Slave
+from fmpy.validation import validate_fmu
+
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
+FMU = os.path.join(ROOT, "dist", "Fractum.fmu")
+
+V_INCIDENT, V_TRANSMITTED = 0, 1
+STRESS_INCIDENT, STRESS_TRANSMITTED = 2, 3
+FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY = 4, 6, 8, 9
+SPECIMEN_DIAMETER, BAR_DIAMETER = 10, 11
+OUTPUTS = [STRESS_INCIDENT, STRESS_TRANSMITTED, FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY]
+
+
+@pytest.fixture(scope="module")
+def unzipped():
+    assert os.path.exists(FMU), "run `make fmu` first (make test does)"
+    return extract(FMU)
+
+
+def slave(unzipped, name, v_incident=3.0, v_transmitted=0.0):
+    md = read_model_description(FMU)
+    fmu = FMU2Slave(
+        guid=md.guid,
+        unzipDirectory=unzipped,
+        modelIdentifier=md.coSimulation.modelIdentifier,
+        instanceName=name,
+    )
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.setReal([V_INCIDENT, V_TRANSMITTED], [v_incident, v_transmitted])
+    fmu.exitInitializationMode()
+    return fmu
+
+
+def run(fmu, t0, h, n):
+    t = t0
+    for _ in range(n):
+        fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+        t += h
+    return t
+
+
+def test_fmpy_validate_finds_no_problems():
+    assert validate_fmu(FMU) == []
+    md = read_model_description(FMU)
+    cs = md.coSimulation
+    assert cs.modelIdentifier == "fractum_shpb"
+    assert cs.canHandleVariableCommunicationStepSize
+    assert cs.canGetAndSetFMUstate and cs.canSerializeFMUstate
+
+
+def test_velocity_ramp_gives_a_compressive_stress_rising_with_strain():
+    signal = np.array(
+        [(0.0, 0.0, 0.0), (1e-4, 3.0, 0.0)],
+        dtype=[("time", np.float64), ("v_incident", np.float64), ("v_transmitted", np.float64)],
+    )
+    res = simulate_fmu(
+        FMU,
+        start_time=0.0,
+        stop_time=1e-4,
+        step_size=5e-6,
+        output_interval=5e-6,
+        input=signal,
+        output=["stress_incident", "strain", "force_incident", "bar_stress_incident"],
+    )
+    strain, stress = res["strain"], res["stress_incident"]
+    assert strain[-1] > 0.01
+    assert np.all(np.diff(strain) >= 0)
+    loaded = strain > 0.002
+    assert np.all(np.diff(stress[loaded]) > 0), stress
+    assert stress[-1] > 1e6
+    # Equal specimen and bar diameters: the bar stress equals the specimen stress.
+    assert res["bar_stress_incident"][-1] == pytest.approx(stress[-1], rel=1e-12)
+    area = np.pi * 19.05e-3 ** 2 / 4
+    assert res["force_incident"][-1] == pytest.approx(stress[-1] * area, rel=1e-12)
+
+
+def test_two_instances_in_one_process_stay_independent(unzipped):
+    a = slave(unzipped, "a", v_incident=3.0)
+    b = slave(unzipped, "b", v_incident=0.0)
+    run(a, 0.0, 1e-5, 5)
+    run(b, 0.0, 1e-5, 5)
+    sa, sb = a.getReal(OUTPUTS), b.getReal(OUTPUTS)
+    assert sa[4] == pytest.approx(0.025, rel=1e-6)  # 3 m/s x 50 us / 6 mm
+    assert sb[4] == 0.0 and abs(sb[0]) < 1.0
+    for f in (a, b):
+        f.terminate()
+        f.freeInstance()
+
+
+def test_get_set_and_serialized_states_replay_bit_for_bit(unzipped):
+    fmu = slave(unzipped, "state")
+    t = run(fmu, 0.0, 2e-6, 5)
+    state = fmu.getFMUState()
+    blob = fmu.serializeFMUState(state)
+    run(fmu, t, 2e-6, 5)
+    first = fmu.getReal(OUTPUTS)
+    fmu.setFMUState(state)
+    run(fmu, t, 2e-6, 5)
+    assert fmu.getReal(OUTPUTS) == first
+    restored = fmu.deserializeFMUState(blob)
+    fmu.setFMUState(restored)
+    run(fmu, t, 2e-6, 5)
+    assert fmu.getReal(OUTPUTS) == first
+    fmu.freeFMUState(state)
+    fmu.freeFMUState(restored)
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+def test_reset_then_initialisation_starts_over(unzipped):
+    fmu = slave(unzipped, "reset")
+    run(fmu, 0.0, 1e-5, 3)
+    first = fmu.getReal(OUTPUTS)
+    fmu.reset()
+    assert fmu.getReal([V_INCIDENT, SPECIMEN_DIAMETER]) == [0.0, 0.01905]
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.setReal([V_INCIDENT], [3.0])
+    fmu.exitInitializationMode()
+    run(fmu, 0.0, 1e-5, 3)
+    assert fmu.getReal(OUTPUTS) == first
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+def test_outputs_do_not_depend_on_the_communication_step(unzipped):
+    one = slave(unzipped, "one")
+    run(one, 0.0, 1e-5, 1)
+    ten = slave(unzipped, "ten")
+    run(ten, 0.0, 1e-6, 10)
+    a, b = one.getReal(OUTPUTS), ten.getReal(OUTPUTS)
+    for x, y in zip(a, b):
+        assert x == pytest.approx(y, rel=5e-3), (a, b)
+    for f in (one, ten):
+        f.terminate()
+        f.freeInstance()
+
+
+OUT_OF_ORDER = r"""
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+path = sys.argv[1]
+md = read_model_description(path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bad")
+fmu.instantiate()
+refused = 0
+calls = [
+    lambda: fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-6),  # before init
+    lambda: fmu.exitInitializationMode(),                                          # not entered
+    lambda: fmu.terminate(),                                                        # not running
+    lambda: fmu.getReal([99]),                                                      # unknown variable
+    lambda: fmu.setReal([2], [1.0]),                                                # an output
+]
+for call in calls:
+    try:
+        call()
+    except Exception:
+        refused += 1
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.exitInitializationMode()
+for call in [
+    lambda: fmu.setReal([10], [0.02]),                                              # a parameter, too late
+    lambda: fmu.doStep(currentCommunicationPoint=1.0, communicationStepSize=1e-6),  # wrong time
+    lambda: fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=-1.0),  # negative step
+    lambda: fmu.getDirectionalDerivative([2], [0], [1.0]),                          # unsupported
+]:
+    try:
+        call()
+    except Exception:
+        refused += 1
+fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-6)
+fmu.terminate()
+fmu.freeInstance()
+print("refused", refused)
+"""
+
+
+def test_out_of_order_calls_give_errors_not_crashes():
+    p = subprocess.run(
+        [sys.executable, "-c", OUT_OF_ORDER, FMU], capture_output=True, text=True, timeout=300
+    )
+    assert p.returncode == 0, p.stderr
+    assert "refused 9" in p.stdout, p.stdout + p.stderr
