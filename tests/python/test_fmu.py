@@ -194,3 +194,28 @@ def test_out_of_order_calls_give_errors_not_crashes():
     )
     assert p.returncode == 0, p.stderr
     assert "refused 9" in p.stdout, p.stdout + p.stderr
+
+
+def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzipped):
+    import ctypes
+
+    lib = ctypes.CDLL(os.path.join(str(unzipped), "binaries", "linux64", "fractum_shpb.so"))
+    lib.fmi2Instantiate.restype = ctypes.c_void_p
+    lib.fmi2Instantiate.argtypes = [ctypes.c_char_p, ctypes.c_int, ctypes.c_char_p, ctypes.c_char_p,
+                                    ctypes.c_void_p, ctypes.c_int, ctypes.c_int]
+    for name in ["fmi2SetupExperiment", "fmi2EnterInitializationMode", "fmi2ExitInitializationMode",
+                 "fmi2FreeInstance", "fmi2GetReal"]:
+        getattr(lib, name).restype = ctypes.c_int
+    md = read_model_description(FMU)
+    c = lib.fmi2Instantiate(b"empty-uri", 1, md.guid.encode(), b"", None, 0, 0)
+    assert c, "instantiated with an empty resource location"
+    c = ctypes.c_void_p(c)
+    assert lib.fmi2SetupExperiment(c, 0, ctypes.c_double(0), ctypes.c_double(0.0), 0, ctypes.c_double(0)) == 0
+    assert lib.fmi2EnterInitializationMode(c) == 0
+    # Building the specimen reads resources/shpb_sand.toml found next to the binary.
+    assert lib.fmi2ExitInitializationMode(c) == 0
+    vr = (ctypes.c_uint * 1)(12)
+    assert lib.fmi2GetReal(c, vr, 1, (ctypes.c_double * 1)()) != 0  # 12 is an Integer: refused
+    lib.fmi2FreeInstance(c)
+    # A wrong GUID is refused at instantiation.
+    assert not lib.fmi2Instantiate(b"bad", 1, b"{not-the-guid}", b"", None, 0, 0)
