@@ -103,7 +103,7 @@ fn describe_sample(scene: &Scene) -> String {
             p.layers.unwrap_or_default(),
             p.radius_mean.unwrap_or_default()
         ),
-        SampleKind::Text | SampleKind::LammpsData => format!(
+        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => format!(
             "{} file {}",
             p.kind.as_str(),
             p.file.as_deref().unwrap_or("")

@@ -13,6 +13,7 @@ pub mod driver;
 pub mod effects;
 pub mod error;
 pub mod explain;
+pub mod export;
 pub mod integrate;
 pub mod loading;
 pub mod output;

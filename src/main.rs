@@ -46,6 +46,21 @@ enum Command {
         #[command(flatten)]
         options: RunArgs,
     },
+    /// Write the scene's sample for a peer code, at full precision: a LAMMPS data file
+    /// (DIR/packing.data, atom_style sphere, units si) or a YADE ymport.text file
+    /// (DIR/packing.txt).
+    Export {
+        /// lammps or yade.
+        format: ExportFormat,
+        /// The scene file (TOML).
+        scene: PathBuf,
+        /// Folder to write into.
+        dir: PathBuf,
+        #[arg(long = "set", value_name = "KEY=VALUE")]
+        set: Vec<String>,
+        #[arg(long)]
+        quiet: bool,
+    },
     /// Print what a scene builds: sample, force pipeline, loading, time step, outputs.
     Explain {
         scene: PathBuf,
@@ -64,6 +79,12 @@ enum Command {
         #[arg(long, default_value_t = 2000)]
         steps: u64,
     },
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+enum ExportFormat {
+    Lammps,
+    Yade,
 }
 
 /// Options shared by `run` and `resume`.
@@ -120,6 +141,43 @@ fn dispatch(command: Command) -> Result<(), Error> {
                 sim.end_step()
             ));
             run(sim, out, frames, &options)
+        }
+        Command::Export {
+            format,
+            scene,
+            dir,
+            set,
+            quiet,
+        } => {
+            let scene = Scene::load(&scene, &set)?;
+            let say = messenger(quiet);
+            let mut note = |m: &str| say(m);
+            let sample = fractum::sample::build(&scene, &mut note)?;
+            let (name, text) = match format {
+                ExportFormat::Lammps => (
+                    "packing.data",
+                    fractum::export::lammps_data(
+                        &sample.bodies,
+                        &sample.walls,
+                        scene.material.density,
+                        &scene.name,
+                    ),
+                ),
+                ExportFormat::Yade => (
+                    "packing.txt",
+                    fractum::export::yade_text(&sample.bodies, &sample.walls, &scene.name),
+                ),
+            };
+            std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, "create the folder", e))?;
+            let path = dir.join(name);
+            fractum::output::write_atomic(&path, text.as_bytes())?;
+            say(&format!(
+                "{}: wrote {} ({} spheres)",
+                scene.name,
+                path.display(),
+                sample.bodies.len()
+            ));
+            Ok(())
         }
         Command::Explain { scene, set } => {
             let scene = Scene::load(&scene, &set)?;

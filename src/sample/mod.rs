@@ -77,13 +77,13 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<S
             }
             (b, Walls::new_box(Vec3::zeros(), size))
         }
-        SampleKind::Text | SampleKind::LammpsData => {
+        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => {
             let file = spec.file.as_deref().expect("validated");
             let path = scene.resolve(file);
-            let packing = if spec.kind == SampleKind::Text {
-                read_text_packing(&path)
-            } else {
+            let packing = if spec.kind == SampleKind::LammpsData {
                 read_lammps_data(&path)
+            } else {
+                read_text_packing(&path)
             }
             .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
             let mut b = Bodies::default();

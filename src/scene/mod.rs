@@ -101,6 +101,8 @@ pub enum SampleKind {
     Text,
     /// A LAMMPS data file, atom_style sphere.
     LammpsData,
+    /// A YADE `ymport.text` / `export.textExt(..., 'x_y_z_r')` file: `x y z r` per line.
+    YadeText,
 }
 
 impl SampleKind {
@@ -111,6 +113,7 @@ impl SampleKind {
             SampleKind::Hcp => "hcp",
             SampleKind::Text => "text",
             SampleKind::LammpsData => "lammps_data",
+            SampleKind::YadeText => "yade_text",
         }
     }
 }

@@ -236,7 +236,7 @@ fn validate_sample(s: &Scene) -> Result<()> {
                 ));
             }
         }
-        SampleKind::Text | SampleKind::LammpsData => {
+        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => {
             if p.file.is_none() {
                 return Err(s.key_error("sample.file", format!("is required {why}")));
             }
