@@ -408,6 +408,23 @@ pub extern "C" fn fractum_counts(
     })
 }
 
+/// Copies per-body values (taken from the simulation by `values`) into the caller's buffer.
+fn copy_body_values(
+    handle: FractumHandle,
+    buf: *mut f64,
+    len: usize,
+    values: impl FnOnce(&Simulation) -> Vec<f64>,
+) -> FractumStatus {
+    guard(|| {
+        let v = with_sim(handle, |e| Ok(values(&e.sim)))?;
+        copy_out(&v, buf, len)
+    })
+}
+
+fn flatten(v: &[fractum::state::Vec3]) -> Vec<f64> {
+    v.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
+}
+
 /// Copies the positions (m) as x0 y0 z0 x1 ... into `buf` of `len` doubles (3 per body).
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_copy_positions(
@@ -415,17 +432,7 @@ pub extern "C" fn fractum_copy_positions(
     buf: *mut f64,
     len: usize,
 ) -> FractumStatus {
-    guard(|| {
-        let v = with_sim(handle, |e| {
-            Ok(e.sim
-                .bodies
-                .pos
-                .iter()
-                .flat_map(|p| [p.x, p.y, p.z])
-                .collect::<Vec<_>>())
-        })?;
-        copy_out(&v, buf, len)
-    })
+    copy_body_values(handle, buf, len, |sim| flatten(&sim.bodies.pos))
 }
 
 /// Copies the velocities (m/s) as vx0 vy0 vz0 vx1 ... into `buf` of `len` doubles.
@@ -435,17 +442,7 @@ pub extern "C" fn fractum_copy_velocities(
     buf: *mut f64,
     len: usize,
 ) -> FractumStatus {
-    guard(|| {
-        let v = with_sim(handle, |e| {
-            Ok(e.sim
-                .bodies
-                .vel
-                .iter()
-                .flat_map(|p| [p.x, p.y, p.z])
-                .collect::<Vec<_>>())
-        })?;
-        copy_out(&v, buf, len)
-    })
+    copy_body_values(handle, buf, len, |sim| flatten(&sim.bodies.vel))
 }
 
 /// Copies the radii (m; the bounding radius of non-spherical bodies) into `buf` of `len`
@@ -456,10 +453,7 @@ pub extern "C" fn fractum_copy_radii(
     buf: *mut f64,
     len: usize,
 ) -> FractumStatus {
-    guard(|| {
-        let v = with_sim(handle, |e| Ok(e.sim.bodies.radius.clone()))?;
-        copy_out(&v, buf, len)
-    })
+    copy_body_values(handle, buf, len, |sim| sim.bodies.radius.clone())
 }
 
 /// The size (bytes) of the saved state, for sizing the buffer of `fractum_save_state`.
