@@ -271,14 +271,21 @@ impl Simulation {
         on_threads(&pool, || {
             while self.step < target {
                 self.step_once();
-                if self.step % self.scene.output.every == 0 || self.step == self.end_step {
-                    self.check_finite()?;
-                    self.check_stability()?;
-                    self.record_row();
-                }
+                self.after_step()?;
             }
             Ok(())
         })
+    }
+
+    /// Every `output.every` steps (and at the end of the loading): check the state is finite
+    /// and the time step short enough, and record a series row.
+    fn after_step(&mut self) -> Result<()> {
+        if self.step % self.scene.output.every == 0 || self.step == self.end_step {
+            self.check_finite()?;
+            self.check_stability()?;
+            self.record_row();
+        }
+        Ok(())
     }
 
     fn step_once(&mut self) {
@@ -326,11 +333,7 @@ impl Simulation {
                 } else {
                     self.step_by(h);
                 }
-                if self.step % self.scene.output.every == 0 {
-                    self.check_finite()?;
-                    self.check_stability()?;
-                    self.record_row();
-                }
+                self.after_step()?;
             }
             Ok(())
         })

@@ -198,41 +198,25 @@ fn put<T>(out: *mut T, value: T, what: &str) -> Result<(), (FractumStatus, Strin
     Ok(())
 }
 
-/// Copies `values` into the caller's buffer of `len` doubles.
-fn copy_out(values: &[f64], buf: *mut f64, len: usize) -> Result<(), (FractumStatus, String)> {
+/// Copies `values` into the caller's buffer of `len` elements (`unit` names them in the
+/// message when the buffer is too small).
+fn copy_out<T: Copy>(
+    values: &[T],
+    buf: *mut T,
+    len: usize,
+    unit: &str,
+) -> Result<(), (FractumStatus, String)> {
     if buf.is_null() {
         return Err(null("buffer"));
     }
     if len < values.len() {
         return Err((
             FRACTUM_ERR_BUFFER,
-            format!(
-                "the buffer holds {len} doubles, {} are needed",
-                values.len()
-            ),
+            format!("the buffer holds {len} {unit}, {} are needed", values.len()),
         ));
     }
-    // SAFETY: `buf` holds at least `len >= values.len()` doubles.
+    // SAFETY: `buf` holds at least `len >= values.len()` elements.
     unsafe { std::ptr::copy_nonoverlapping(values.as_ptr(), buf, values.len()) };
-    Ok(())
-}
-
-/// Copies `bytes` into the caller's buffer of `len` bytes.
-fn copy_bytes_out(bytes: &[u8], buf: *mut u8, len: usize) -> Result<(), (FractumStatus, String)> {
-    if buf.is_null() {
-        return Err(null("buffer"));
-    }
-    if len < bytes.len() {
-        return Err((
-            FRACTUM_ERR_BUFFER,
-            format!(
-                "the buffer holds {len} bytes, the state needs {}",
-                bytes.len()
-            ),
-        ));
-    }
-    // SAFETY: `buf` holds at least `len >= bytes.len()` bytes.
-    unsafe { std::ptr::copy_nonoverlapping(bytes.as_ptr(), buf, bytes.len()) };
     Ok(())
 }
 
@@ -417,7 +401,7 @@ fn copy_body_values(
 ) -> FractumStatus {
     guard(|| {
         let v = with_sim(handle, |e| Ok(values(&e.sim)))?;
-        copy_out(&v, buf, len)
+        copy_out(&v, buf, len, "doubles")
     })
 }
 
@@ -475,7 +459,7 @@ pub extern "C" fn fractum_save_state(
 ) -> FractumStatus {
     guard(|| {
         let bytes = with_sim(handle, |e| Ok(e.sim.save_state()))?;
-        copy_bytes_out(&bytes, buf, len)?;
+        copy_out(&bytes, buf, len, "bytes")?;
         put(written, bytes.len(), "written")
     })
 }

@@ -171,6 +171,17 @@ impl Instance {
         Ok(self.resources.join(rel))
     }
 
+    /// The specimen's scene: the `scene` parameter's file with `seed`, no VTK and no series
+    /// rows (the host reads the outputs).
+    fn scene(&self, seed: i32) -> Result<fractum::Scene, Failure> {
+        let overrides = vec![
+            format!("seed={seed}"),
+            "output.vtk=0".to_string(),
+            "output.every=1000000000".to_string(),
+        ];
+        fractum::Scene::load(&self.scene_path()?, &overrides).map_err(|e| e.to_string())
+    }
+
     fn build(&mut self) -> Result<(), Failure> {
         for (name, d) in [
             ("specimen_diameter", self.vars.specimen_diameter),
@@ -182,13 +193,7 @@ impl Instance {
                 ));
             }
         }
-        let path = self.scene_path()?;
-        let overrides = vec![
-            format!("seed={}", self.vars.seed),
-            "output.vtk=0".to_string(),
-            "output.every=1000000000".to_string(),
-        ];
-        let scene = fractum::Scene::load(&path, &overrides).map_err(|e| e.to_string())?;
+        let scene = self.scene(self.vars.seed)?;
         let mut sim = Simulation::new(scene, 1, &mut |_| {}).map_err(|e| e.to_string())?;
         sim.set_face_speeds(self.vars.v_incident, -self.vars.v_transmitted)
             .map_err(|e| e.to_string())?;
@@ -262,16 +267,10 @@ impl Instance {
             (Some(bytes), Some(current)) => Some(
                 Simulation::restore(current.scene.clone(), bytes, 1).map_err(|e| e.to_string())?,
             ),
-            (Some(bytes), None) => {
-                let path = self.scene_path()?;
-                let overrides = vec![
-                    format!("seed={}", saved.vars.seed),
-                    "output.vtk=0".to_string(),
-                    "output.every=1000000000".to_string(),
-                ];
-                let scene = fractum::Scene::load(&path, &overrides).map_err(|e| e.to_string())?;
-                Some(Simulation::restore(scene, bytes, 1).map_err(|e| e.to_string())?)
-            }
+            (Some(bytes), None) => Some(
+                Simulation::restore(self.scene(saved.vars.seed)?, bytes, 1)
+                    .map_err(|e| e.to_string())?,
+            ),
         };
         self.phase = saved.phase;
         self.vars = saved.vars.clone();
