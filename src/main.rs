@@ -46,9 +46,11 @@ enum Command {
         #[command(flatten)]
         options: RunArgs,
     },
-    /// Write the scene's sample for a peer code, at full precision: a LAMMPS data file
-    /// (DIR/packing.data, atom_style sphere, units si) or a YADE ymport.text file
-    /// (DIR/packing.txt).
+    /// Write the scene for a peer code: the sample at full precision and a script that runs
+    /// the same contact law, walls, loading, time step and steps, printing series.csv's
+    /// columns. LAMMPS: DIR/packing.data (atom_style sphere, units si) and DIR/in.fractum
+    /// (writes series_lammps.csv); YADE: DIR/packing.txt (ymport.text) and
+    /// DIR/fractum_yade.py (writes series_yade.csv).
     Export {
         /// lammps or yade.
         format: ExportFormat,
@@ -153,29 +155,48 @@ fn dispatch(command: Command) -> Result<(), Error> {
             let say = messenger(quiet);
             let mut note = |m: &str| say(m);
             let sample = fractum::sample::build(&scene, &mut note)?;
-            let (name, text) = match format {
-                ExportFormat::Lammps => (
-                    "packing.data",
-                    fractum::export::lammps_data(
-                        &sample.bodies,
-                        &sample.walls,
-                        scene.material.density,
-                        &scene.name,
+            let count = sample.bodies.len();
+            let sim = fractum::Simulation::from_sample(scene, sample, 1)?;
+            let plan = fractum::export::RunPlan::of(&sim);
+            let name = &sim.scene.name;
+            let files = match format {
+                ExportFormat::Lammps => [
+                    (
+                        "packing.data",
+                        fractum::export::lammps_data(
+                            &sim.bodies,
+                            &sim.walls,
+                            sim.scene.material.density,
+                            name,
+                        ),
                     ),
-                ),
-                ExportFormat::Yade => (
-                    "packing.txt",
-                    fractum::export::yade_text(&sample.bodies, &sample.walls, &scene.name),
-                ),
+                    (
+                        "in.fractum",
+                        fractum::export::lammps_input(&plan, "packing.data", "series_lammps.csv")?,
+                    ),
+                ],
+                ExportFormat::Yade => [
+                    (
+                        "packing.txt",
+                        fractum::export::yade_text(&sim.bodies, &sim.walls, name),
+                    ),
+                    (
+                        "fractum_yade.py",
+                        fractum::export::yade_script(&plan, "packing.txt", "series_yade.csv")?,
+                    ),
+                ],
             };
             std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, "create the folder", e))?;
-            let path = dir.join(name);
-            fractum::output::write_atomic(&path, text.as_bytes())?;
+            for (file, text) in &files {
+                fractum::output::write_atomic(&dir.join(file), text.as_bytes())?;
+            }
             say(&format!(
-                "{}: wrote {} ({} spheres)",
-                scene.name,
-                path.display(),
-                sample.bodies.len()
+                "{name}: wrote {} and {} in {} ({count} spheres, {} steps of {:.4e} s)",
+                files[0].0,
+                files[1].0,
+                dir.display(),
+                sim.end_step,
+                sim.dt
             ));
             Ok(())
         }
