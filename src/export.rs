@@ -518,7 +518,10 @@ mod tests {
             // LAMMPS coeff_restitution: c = 2 sqrt(5/6) beta, beta = -ln e / sqrt(ln^2 e + pi^2).
             let l = e_l.ln();
             let beta = -l / (l * l + std::f64::consts::PI.powi(2)).sqrt();
-            assert!((2.0 * (5.0_f64 / 6.0).sqrt() * beta - c).abs() < 1e-12, "e = {e}");
+            assert!(
+                (2.0 * (5.0_f64 / 6.0).sqrt() * beta - c).abs() < 1e-12,
+                "e = {e}"
+            );
             // The linear-spring closed form asks LAMMPS for less than the restitution obtained.
             assert!(e_l <= e);
         }

@@ -95,9 +95,10 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<S
                     b.vel[i] = v;
                 }
             }
-            let (lo, hi) = match (spec.box_size, packing.bounds) {
-                (Some(size), _) => (Vec3::zeros(), Vec3::from(size)),
-                (None, Some(bounds)) => bounds,
+            // The file's own box first (docs/scenes.md): it is exact data, `box` a fallback.
+            let (lo, hi) = match (packing.bounds, spec.box_size) {
+                (Some(bounds), _) => bounds,
+                (None, Some(size)) => (Vec3::zeros(), Vec3::from(size)),
                 (None, None) => bounding_box(&b),
             };
             (b, Walls::new_box(lo, hi))
