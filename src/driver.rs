@@ -23,6 +23,7 @@ pub fn run_to_end(
     options: RunOptions,
     progress: &mut dyn FnMut(&dyn Run),
 ) -> Result<()> {
+    let started = std::time::Instant::now();
     let vtk = run.scene().output.vtk;
     let report_every = (run.end_step() / 400).clamp(1, 2000);
     if vtk > 0 && run.step() % vtk == 0 && !out.frames.iter().any(|f| f.1 == run.step()) {
@@ -55,6 +56,6 @@ pub fn run_to_end(
         progress(&*run);
     }
     out.write_series(run)?;
-    out.write_results(run)?;
+    out.write_results(run, started.elapsed().as_secs_f64())?;
     Ok(())
 }

@@ -85,12 +85,18 @@ impl OutputDir {
         write_atomic(&self.file("series.csv"), run.series().to_csv().as_bytes())
     }
 
-    /// summary.json and the model's further result files.
-    pub fn write_results(&self, run: &dyn Run) -> Result<()> {
+    /// summary.json and the model's further result files. `wall_seconds` (the time this
+    /// process spent advancing the run) is the summary's last key and the only one that
+    /// differs between repeated runs.
+    pub fn write_results(&self, run: &dyn Run, wall_seconds: f64) -> Result<()> {
         for (name, bytes) in run.extra_outputs() {
             write_atomic(&self.file(&name), &bytes)?;
         }
-        let mut text = serde_json::to_string_pretty(&run.summary()).expect("summary serialises");
+        let mut summary = run.summary();
+        if let Some(m) = summary.as_object_mut() {
+            m.insert("wall_seconds".into(), wall_seconds.into());
+        }
+        let mut text = serde_json::to_string_pretty(&summary).expect("summary serialises");
         text.push('\n');
         write_atomic(&self.file("summary.json"), text.as_bytes())
     }

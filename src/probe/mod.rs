@@ -1,5 +1,7 @@
 //! Measurements recorded during a run: the rows of series.csv.
 
+pub mod fragments;
+
 use serde::{Deserialize, Serialize};
 
 use crate::state::{Bodies, BoxFace, Walls};
