@@ -6,11 +6,14 @@ use crate::effects::Pipeline;
 use crate::error::Result;
 use crate::scene::{DtSpec, EffectKind, LoadingKind, SampleKind, Scene};
 
-const ALL_EFFECTS: [EffectKind; 4] = [
+const ALL_EFFECTS: [EffectKind; 7] = [
     EffectKind::Contact,
     EffectKind::Damping,
     EffectKind::Friction,
     EffectKind::Gravity,
+    EffectKind::Fracture,
+    EffectKind::Cohesion,
+    EffectKind::Weibull,
 ];
 
 /// A human-readable account of the scene: sample, force pipeline (and what is left out),
@@ -50,6 +53,11 @@ pub fn explain(scene: &Scene) -> Result<String> {
             "oedometer: top wall (z+) driven down at {} 1/s to axial strain {}; the other five walls fixed",
             l.strain_rate.unwrap_or_default(),
             l.end_strain.unwrap_or_default()
+        ),
+        LoadingKind::Platens => format!(
+            "platens: top wall (z+) driven down at {} m/s for {:e} m; the bottom fixed",
+            l.speed.unwrap_or_default(),
+            l.end_displacement.unwrap_or_default()
         ),
     };
     let _ = writeln!(s, "loading: {loading}");
@@ -107,6 +115,11 @@ fn describe_sample(scene: &Scene) -> String {
             "{} file {}",
             p.kind.as_str(),
             p.file.as_deref().unwrap_or("")
+        ),
+        SampleKind::Single => format!(
+            "one poly-ellipsoid grain, semi-axes [a+, a-, b+, b-, c+, c-] = {:?} m, on the bottom of a box of base {:?} m",
+            p.semi_axes.unwrap_or_default(),
+            p.box_size.map(|b| [b[0], b[1]]).unwrap_or_default()
         ),
     }
 }

@@ -13,6 +13,7 @@ pub mod driver;
 pub mod effects;
 pub mod error;
 pub mod explain;
+pub mod fracture;
 pub mod export;
 pub mod integrate;
 pub mod loading;

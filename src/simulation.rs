@@ -14,13 +14,16 @@ use serde_json::Value;
 
 use crate::effects::{Pipeline, StepContext};
 use crate::error::{Error, Result};
+use crate::fracture::GrainFracture;
+use crate::probe::energy::{EnergyAccount, Mechanical};
+use crate::probe::size_distribution;
 use crate::integrate::{VelocityVerlet, rayleigh_time_step};
 use crate::loading::Loading;
 use crate::output::vtk;
 use crate::probe::{self, Series};
 use crate::run::{self, Run};
 use crate::sample::{self, Sample, SampleInfo};
-use crate::scene::{DtSpec, Scene};
+use crate::scene::{DtSpec, EffectKind, LoadingKind, Scene};
 use crate::state::{Bodies, BoxFace, Forces, Walls};
 
 pub struct Simulation {
@@ -48,6 +51,11 @@ pub struct Simulation {
     pub max_omega_dt: f64,
     /// Warnings for the user, in the order they arose.
     pub warnings: Vec<String>,
+    /// Particle fracture and cohesion (the `fracture` effect), its energy account and the
+    /// pieces' masses at the report strains.
+    pub fracture: Option<GrainFracture>,
+    pub energy: Option<EnergyAccount>,
+    pub psd: Vec<(f64, Vec<f64>)>,
     /// The run's worker threads; `None` runs everything on the caller's thread.
     pool: Option<Arc<rayon::ThreadPool>>,
 }
@@ -68,6 +76,9 @@ pub struct RunState {
     pub max_omega_dt: f64,
     pub warnings: Vec<String>,
     pub effects: Vec<(String, Vec<u8>)>,
+    pub fracture: Option<GrainFracture>,
+    pub energy: Option<EnergyAccount>,
+    pub psd: Vec<(f64, Vec<f64>)>,
 }
 
 /// The step at which a loading of `end_time` seconds ends (unbounded for an endless one).
@@ -77,6 +88,16 @@ fn end_step(end_time: f64, dt: f64) -> u64 {
     } else {
         u64::MAX
     }
+}
+
+/// The value of `ys` at `x` by linear interpolation along the increasing `xs`; `None` outside.
+fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
+    let k = xs.iter().position(|&v| v >= x)?;
+    if k == 0 {
+        return (xs[0] == x).then(|| ys[0]);
+    }
+    let t = (x - xs[k - 1]) / (xs[k] - xs[k - 1]);
+    Some(ys[k - 1] + t * (ys[k] - ys[k - 1]))
 }
 
 /// Above this estimated `ω dt` a run stops, above the second it warns.
@@ -144,7 +165,14 @@ impl Simulation {
             0.0
         };
         let mut sim = Simulation::assemble(scene, bodies, walls, loading, info, height0, pool)?;
+        if sim.scene.has_effect(EffectKind::Fracture) {
+            sim.fracture = Some(GrainFracture::new(&sim.scene, &sim.bodies));
+        }
         sim.evaluate_forces(false);
+        if sim.fracture.is_some() {
+            sim.energy = Some(EnergyAccount::new(&sim.walls, sim.mechanical_energy()));
+            sim.take_size_distributions();
+        }
         sim.record_row();
         Ok(sim)
     }
@@ -163,17 +191,29 @@ impl Simulation {
         }
         let pipeline = Pipeline::build(&scene)?;
         let m = &scene.material;
-        let dt_rayleigh = rayleigh_time_step(bodies.min_radius(), m.density, m.young, m.poisson);
+        // Breaking grains end as pieces of an eighth of their mass (three splits at most,
+        // Section 3.3.3) whose Rayleigh time is about half the grain's: the step is chosen
+        // for them from the start.
+        let fracture = scene.has_effect(EffectKind::Fracture);
+        let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
+        let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson);
         let dt = match scene.time.dt {
             DtSpec::Auto => scene.time.safety * dt_rayleigh,
             DtSpec::Seconds(s) => s,
         };
         let end_step = end_step(loading.end_time(), dt);
-        let series = if walls.is_box {
-            Series::new(&probe::BOX_COLUMNS)
+        let mut columns: Vec<&str> = if scene.loading.kind == LoadingKind::Platens {
+            probe::PLATEN_COLUMNS.to_vec()
+        } else if walls.is_box {
+            probe::BOX_COLUMNS.to_vec()
         } else {
-            Series::new(&probe::FREE_COLUMNS)
+            probe::FREE_COLUMNS.to_vec()
         };
+        if fracture {
+            columns.extend_from_slice(&probe::FRACTURE_COLUMNS);
+        }
+        let series = Series::new(&columns);
+        let track_orientation = fracture || bodies.shape.iter().any(|s| !s.is_sphere());
         let forces = Forces::new(bodies.len());
         let sim = Simulation {
             scene,
@@ -181,7 +221,7 @@ impl Simulation {
             walls,
             forces,
             pipeline,
-            integrator: VelocityVerlet::default(),
+            integrator: VelocityVerlet { track_orientation },
             loading,
             series,
             sample,
@@ -193,6 +233,9 @@ impl Simulation {
             height0,
             max_omega_dt: 0.0,
             warnings: Vec::new(),
+            fracture: None,
+            energy: None,
+            psd: Vec::new(),
             pool,
         };
         Ok(sim)
@@ -217,6 +260,9 @@ impl Simulation {
         sim.dt = state.dt;
         sim.max_omega_dt = state.max_omega_dt;
         sim.warnings = state.warnings;
+        sim.fracture = state.fracture;
+        sim.energy = state.energy;
+        sim.psd = state.psd;
         sim.end_step = end_step(sim.loading.end_time(), sim.dt);
         Ok(sim)
     }
@@ -237,6 +283,9 @@ impl Simulation {
             max_omega_dt: self.max_omega_dt,
             warnings: self.warnings.clone(),
             effects: self.pipeline.save(),
+            fracture: self.fracture.clone(),
+            energy: self.energy.clone(),
+            psd: self.psd.clone(),
         }
     }
 
@@ -255,6 +304,9 @@ impl Simulation {
             };
             self.pipeline
                 .accumulate(&ctx, &self.bodies, &mut self.walls, &mut self.forces);
+            if let Some(f) = &mut self.fracture {
+                f.add_spring_forces(&self.bodies, &mut self.forces);
+            }
         });
     }
 
@@ -306,9 +358,114 @@ impl Simulation {
         };
         self.pipeline
             .accumulate(&ctx, &self.bodies, &mut self.walls, &mut self.forces);
+        if let Some(f) = &mut self.fracture {
+            f.add_spring_forces(&self.bodies, &mut self.forces);
+        }
         self.integrator.kick(&mut self.bodies, &self.forces, dt);
         self.step += 1;
         self.time += dt;
+        if self.fracture.is_some() {
+            self.after_fracture_step(dt);
+        }
+    }
+
+    /// Fracture after a step: account the step's energy, break the grains that fail at the
+    /// new state, and take the size distribution at the report strains.
+    fn after_fracture_step(&mut self, dt: f64) {
+        let dissipated = self.pipeline.records().map_or(0.0, |r| r.dissipated);
+        if let Some(e) = &mut self.energy {
+            e.add_step(&self.walls, dissipated, dt);
+        }
+        let fracture = self.fracture.as_ref().expect("called with fracture");
+        let records = self.pipeline.records().expect("fracture records contacts");
+        let breaking = fracture.check(&self.bodies, &self.forces, records);
+        self.break_grains(&breaking);
+        self.take_size_distributions();
+    }
+
+    /// Splits the given grains now (each with what broke it; see
+    /// [`GrainFracture::check`]), re-evaluates the forces on the new shapes and bonds the
+    /// halves. Returns the number of splits made (grains whose shape forbids breaking make
+    /// none). Needs the `fracture` effect.
+    pub fn break_grains(&mut self, breaking: &[crate::fracture::Breaking]) -> usize {
+        if breaking.is_empty() || self.fracture.is_none() {
+            return 0;
+        }
+        let before = self.mechanical_energy();
+        let fracture = self.fracture.as_mut().expect("checked above");
+        let pending =
+            fracture.split(&mut self.bodies, &self.forces, breaking, self.step, self.time);
+        if !pending.is_empty() {
+            self.forces = Forces::new(self.bodies.len());
+            self.evaluate_forces(false);
+            let after = self.mechanical_energy();
+            let fracture = self.fracture.as_mut().expect("checked above");
+            fracture.split_energy += after.total() - before.total();
+            fracture.bond(&self.bodies, &mut self.forces, &pending);
+        }
+        pending.len()
+    }
+
+    /// Kinetic, contact elastic and gravitational energy now (J); elastic from the contact
+    /// records of the last evaluation.
+    fn mechanical_energy(&self) -> Mechanical {
+        let elastic = self
+            .pipeline
+            .records()
+            .map_or(0.0, |r| r.list.iter().map(|c| c.energy).sum());
+        let gravity = if self.scene.has_effect(EffectKind::Gravity) {
+            let g = crate::state::Vec3::from(self.scene.gravity.acceleration);
+            -(0..self.bodies.len())
+                .map(|i| self.bodies.mass[i] * g.dot(&self.bodies.pos[i]))
+                .sum::<f64>()
+        } else {
+            0.0
+        };
+        Mechanical {
+            kinetic: self.bodies.kinetic_energy(),
+            elastic,
+            gravity,
+        }
+    }
+
+    /// The strains at which the size distribution and the stress are reported.
+    pub fn report_strains(&self) -> Vec<f64> {
+        let end = match self.loading {
+            Loading::Oedometer { end_strain, .. } => end_strain,
+            _ => return Vec::new(),
+        };
+        let strains = self
+            .scene
+            .output
+            .report_strains
+            .clone()
+            .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]);
+        strains
+            .into_iter()
+            .filter(|&e| e <= end + 1e-12)
+            .collect()
+    }
+
+    /// The masses of the pieces (grains and fragments held by intact springs), at the start
+    /// and once each report strain is passed.
+    fn take_size_distributions(&mut self) {
+        let Some(f) = &self.fracture else {
+            return;
+        };
+        let strain = self.axial_strain();
+        let due = if self.psd.is_empty() {
+            Some(0.0)
+        } else {
+            self.report_strains()
+                .into_iter()
+                .find(|&e| strain >= e - 1e-12 && self.psd.iter().all(|(s, _)| *s != e))
+        };
+        let Some(at) = due else {
+            return;
+        };
+        let (labels, count) = f.pieces(self.bodies.len());
+        let masses = crate::probe::fragments::sum_by_component(&labels, count, &self.bodies.mass);
+        self.psd.push((at, masses));
     }
 
     /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
@@ -380,10 +537,9 @@ impl Simulation {
         )
     }
 
-    /// Particles broken so far. The sphere model has no particle fracture, so none; the
-    /// granular fracture model counts them here.
+    /// Grains of the sample broken so far (0 without the `fracture` effect).
     pub fn broken_particles(&self) -> usize {
-        0
+        self.fracture.as_ref().map_or(0, |f| f.broken_particles())
     }
 
     /// Face area (m²) of the top and bottom faces.
@@ -427,11 +583,26 @@ impl Simulation {
 
     fn record_row(&mut self) {
         let contacts = self.pipeline.contacts();
-        let row = if self.walls.is_box {
+        let mut row = if matches!(self.loading, Loading::Platens { .. }) {
+            probe::platen_row(self.time, self.height0, &self.bodies, &self.walls, contacts)
+        } else if self.walls.is_box {
             probe::box_row(self.time, self.height0, &self.bodies, &self.walls, contacts)
         } else {
             probe::free_row(self.time, &self.bodies, contacts)
         };
+        if let (Some(f), Some(e)) = (&self.fracture, &self.energy) {
+            let now = self.mechanical_energy();
+            row.extend_from_slice(&[
+                self.bodies.len() as f64,
+                f.broken_particles() as f64,
+                f.fragments(self.bodies.len()) as f64,
+                f.intact_springs() as f64,
+                now.elastic,
+                e.boundary_work,
+                e.dissipated,
+                -f.spring_work,
+            ]);
+        }
         if self.series.rows.last().is_some_and(|r| r[0] == row[0]) {
             return;
         }
@@ -467,7 +638,118 @@ impl Simulation {
             self.bodies.kinetic_energy().into(),
         );
         self.loading.summarize(&self.series, &mut m);
+        if let Some(f) = &self.fracture {
+            self.fracture_summary(f, &mut m);
+        }
         Value::Object(m)
+    }
+
+    /// The `fracture` effect's results: grains broken, fragments, splits by criterion, springs,
+    /// the stress at the report strains, the median size at each, and the energy account.
+    fn fracture_summary(&self, f: &GrainFracture, m: &mut serde_json::Map<String, Value>) {
+        use serde_json::json;
+        let n = self.bodies.len();
+        m.insert("broken_particles".into(), f.broken_particles().into());
+        m.insert("fragments".into(), f.fragments(n).into());
+        m.insert("particles_final".into(), n.into());
+        let by = |c: crate::fracture::Criterion| f.events.iter().filter(|e| e.criterion == c).count();
+        m.insert(
+            "splits".into(),
+            json!({
+                "total": f.events.len(),
+                "hoek_brown": by(crate::fracture::Criterion::HoekBrown),
+                "contacts": by(crate::fracture::Criterion::Contacts),
+            }),
+        );
+        m.insert(
+            "springs".into(),
+            json!({"made": f.springs.len(), "intact": f.intact_springs()}),
+        );
+        if let Some(first) = f.events.first() {
+            m.insert("first_split_time".into(), first.time.into());
+        }
+        let strains = self.report_strains();
+        if !strains.is_empty() {
+            let (eps, axial) = (
+                self.series.column("axial_strain").unwrap_or_default(),
+                self.axial_stress_column(),
+            );
+            let mut at = serde_json::Map::new();
+            for e in &strains {
+                if let Some(v) = interpolate(&eps, &axial, *e) {
+                    at.insert(format!("{e}"), v.into());
+                }
+            }
+            m.insert("stress_at_strain".into(), Value::Object(at));
+            let rho = self.scene.material.density;
+            let mut d50 = serde_json::Map::new();
+            for (e, masses) in &self.psd {
+                let pieces: Vec<(f64, f64)> = masses
+                    .iter()
+                    .map(|&mm| (mm, size_distribution::equivalent_diameter(mm, rho)))
+                    .collect();
+                d50.insert(
+                    format!("{e}"),
+                    size_distribution::median_diameter(&pieces).into(),
+                );
+            }
+            m.insert("median_diameter_at_strain".into(), Value::Object(d50));
+        }
+        if let Some(e) = &self.energy {
+            m.insert(
+                "energy".into(),
+                e.report(self.mechanical_energy(), f.spring_work, f.split_energy),
+            );
+        }
+    }
+
+    /// Axial stress of each series row: the mean of the top and bottom faces (Pa).
+    fn axial_stress_column(&self) -> Vec<f64> {
+        match (
+            self.series.column("stress_driven"),
+            self.series.column("stress_opposite"),
+        ) {
+            (Some(a), Some(b)) => a.iter().zip(&b).map(|(x, y)| 0.5 * (x + y)).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// psd.csv: the sieve curves (mass fraction finer than each equivalent diameter) at the
+    /// start and at each report strain reached.
+    pub fn psd_csv(&self) -> Option<String> {
+        if self.psd.is_empty() || self.fracture.is_none() {
+            return None;
+        }
+        let rho = self.scene.material.density;
+        let curves: Vec<Vec<(f64, f64)>> = self
+            .psd
+            .iter()
+            .map(|(_, masses)| {
+                masses
+                    .iter()
+                    .map(|&mm| (mm, size_distribution::equivalent_diameter(mm, rho)))
+                    .collect()
+            })
+            .collect();
+        let sieves =
+            size_distribution::sieve_sizes(curves.iter().flatten().map(|p| p.1), 40);
+        let passing: Vec<Vec<f64>> = curves
+            .iter()
+            .map(|c| size_distribution::passing(c, &sieves))
+            .collect();
+        let mut s = String::from("diameter");
+        for (e, _) in &self.psd {
+            s.push_str(&format!(",passing_at_strain_{e}"));
+        }
+        s.push('\n');
+        for (k, d) in sieves.iter().enumerate() {
+            s.push_str(&format!("{d:e}"));
+            for p in &passing {
+                s.push_str(&format!(",{:e}", p[k]));
+            }
+            s.push('\n');
+        }
+        Some(s)
     }
 
     /// Restores a run from the bytes [`Run::save_state`] wrote.
@@ -517,7 +799,16 @@ impl Run for Simulation {
         if self.walls.is_box {
             files.push(("walls", vtk::box_walls_vtu(&self.walls)));
         }
+        if self.fracture.is_some() || self.bodies.shape.iter().any(|s| !s.is_sphere()) {
+            let origin = self.fracture.as_ref().map_or(&[][..], |f| &f.origin[..]);
+            files.push(("grains", vtk::grains_vtu(&self.bodies, origin)));
+        }
         files
+    }
+    fn extra_outputs(&self) -> Vec<(String, Vec<u8>)> {
+        self.psd_csv()
+            .map(|csv| vec![("psd.csv".to_string(), csv.into_bytes())])
+            .unwrap_or_default()
     }
     fn save_state(&self) -> Vec<u8> {
         postcard::to_stdvec(&self.state()).expect("the granular state serialises")

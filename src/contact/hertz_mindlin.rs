@@ -105,12 +105,20 @@ impl KernelConsts {
     }
 }
 
-/// Result of one contact: the force on body i (N) and the normal contact stiffness
-/// `dF_e/dδ = 2 E* a` (N/m).
+/// Result of one contact: the force on body i (N), the normal contact stiffness
+/// `dF_e/dδ = 2 E* a` (N/m), and for energy accounts and fracture criteria the normal force
+/// (N), the contact radius `a` (m), the elastic energy stored in the contact (J: normal
+/// `(2/5) F_e δ`, tangential `k_t |ξ|² / 2`) and the energy damping and sliding dissipated
+/// in this step (J). The kernel is always inlined: callers that ignore a field pay nothing
+/// for it.
 #[derive(Debug, Clone, Copy)]
 pub struct ContactForce {
     pub force: Vec3,
     pub stiffness: f64,
+    pub normal_force: f64,
+    pub radius: f64,
+    pub elastic_energy: f64,
+    pub dissipated: f64,
 }
 
 /// The Hertz–Mindlin force on body i for overlap `delta > 0` along `n`.
@@ -133,12 +141,17 @@ pub fn hertz_mindlin<const DAMP: bool, const FRIC: bool>(
 ) -> ContactForce {
     let a = (r_eff * delta).sqrt();
     let vn = v.dot(n);
-    let mut fn_total = k.four_thirds_e * a * delta;
+    let fn_elastic = k.four_thirds_e * a * delta;
+    let mut fn_total = fn_elastic;
     let mut eta = 0.0;
+    let mut dissipated = 0.0;
+    let mut elastic_energy = 0.4 * fn_elastic * delta;
     if DAMP {
         eta = k.damping * (m_eff * k.two_e * a).sqrt();
         fn_total -= eta * vn;
         fn_total = fn_total.max(0.0);
+        // Power of the damping force against the normal motion, over the step.
+        dissipated += (fn_elastic - fn_total) * vn * dt;
     }
     let mut force = n * fn_total;
     if FRIC {
@@ -159,24 +172,34 @@ pub fn hertz_mindlin<const DAMP: bool, const FRIC: bool>(
         let mut ft = *hist * (-kt);
         if DAMP {
             ft -= vt * eta;
+            dissipated += eta * vt.norm_squared() * dt;
         }
         let limit = k.mu * fn_total;
         let ft2 = ft.norm_squared();
         if ft2 > limit * limit {
             if hist.norm_squared() > 0.0 {
+                let trial = hist.norm();
                 ft *= limit / ft2.sqrt();
                 // Keep the elastic part of the limited force as the new displacement.
                 let elastic = if DAMP { ft + vt * eta } else { ft };
                 *hist = elastic * (-1.0 / kt);
+                // Sliding: the part of the displacement not kept as elastic slipped under
+                // the Coulomb force.
+                dissipated += limit * (trial - hist.norm()).max(0.0);
             } else {
                 ft = Vec3::zeros();
             }
         }
+        elastic_energy += 0.5 * kt * hist.norm_squared();
         force += ft;
     }
     ContactForce {
         force,
         stiffness: k.two_e * a,
+        normal_force: fn_total,
+        radius: a,
+        elastic_energy,
+        dissipated,
     }
 }
 

@@ -4,6 +4,7 @@
 //! * [`hertz_mindlin`]: the Hertz–Mindlin force kernel with optional damping and friction.
 //! * [`restitution`]: the exact map from a coefficient of restitution to Hertz damping.
 
+pub mod convex;
 pub mod hertz_mindlin;
 pub mod neighbor;
 pub mod restitution;

@@ -1,6 +1,14 @@
 //! The `contact` effect: Hertz normal force between spheres and against walls, with the
 //! `damping` and `friction` effects folded into the same loop when the scene names them.
 //!
+//! With grains that are not all spheres (poly-ellipsoids, from fracture or from the sample),
+//! the `POLY` variant finds the contact of a pair by [`crate::contact::convex`] (overlap,
+//! common normal, contact point, Hertz radius from the local curvatures), warm-started from
+//! the pair's last normal; sphere pairs still take the sphere formula. That variant also keeps
+//! a record of every contact of the evaluation (forces, points, contact radii, stored and
+//! dissipated energy) for the fracture criteria and the energy account. Scenes of spheres
+//! without fracture build neither.
+//!
 //! One thread sums each pair's force straight into both bodies, pair slot by pair slot.
 //! Several threads each own a fixed range of rows and sum into private accumulators that are
 //! added up per body in a fixed order: for a given thread count, runs repeat bit for bit.
@@ -11,13 +19,15 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::{Effect, StepContext};
+use crate::contact::convex::{self, Placed};
 use crate::contact::hertz_mindlin::{
     ContactForce, Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
 };
 use crate::contact::neighbor::{PairList, WallLists, transfer_pair_data, transfer_wall_data};
 use crate::error::{Error, Result};
 use crate::parallel::threads_here;
-use crate::scene::{EffectKind, Scene};
+use crate::scene::{EffectKind, GrainShape, Scene};
+use crate::shape::Shape;
 use crate::state::{Bodies, Forces, Vec3, Walls};
 
 /// Parameters of the contact effect.
@@ -32,6 +42,9 @@ pub struct ContactParams {
     pub wall_friction: Option<f64>,
     /// Verlet skin (m); `None`: 0.4 × the smallest radius, chosen at the first build.
     pub skin: Option<f64>,
+    /// Bodies other than spheres may take part (poly-ellipsoids): build the `POLY` variant,
+    /// which also records every contact.
+    pub shapes: bool,
 }
 
 impl ContactParams {
@@ -51,18 +64,66 @@ impl ContactParams {
             mindlin,
             wall_friction: scene.walls.friction,
             skin: scene.neighbor.skin,
+            shapes: scene.has_effect(EffectKind::Fracture)
+                || scene.sample.shape == Some(GrainShape::PolyEllipsoid),
         }
     }
 }
 
 /// Builds the contact effect with exactly the sub-models in `params`.
 pub fn build_contact(params: ContactParams) -> Box<dyn Effect> {
-    match (params.damping.is_some(), params.mindlin.is_some()) {
-        (false, false) => Box::new(HertzContact::<false, false>::new(params)),
-        (true, false) => Box::new(HertzContact::<true, false>::new(params)),
-        (false, true) => Box::new(HertzContact::<false, true>::new(params)),
-        (true, true) => Box::new(HertzContact::<true, true>::new(params)),
+    match (
+        params.damping.is_some(),
+        params.mindlin.is_some(),
+        params.shapes,
+    ) {
+        (false, false, false) => Box::new(HertzContact::<false, false, false>::new(params)),
+        (true, false, false) => Box::new(HertzContact::<true, false, false>::new(params)),
+        (false, true, false) => Box::new(HertzContact::<false, true, false>::new(params)),
+        (true, true, false) => Box::new(HertzContact::<true, true, false>::new(params)),
+        (false, false, true) => Box::new(HertzContact::<false, false, true>::new(params)),
+        (true, false, true) => Box::new(HertzContact::<true, false, true>::new(params)),
+        (false, true, true) => Box::new(HertzContact::<false, true, true>::new(params)),
+        (true, true, true) => Box::new(HertzContact::<true, true, true>::new(params)),
     }
+}
+
+/// `ContactRecord::j` of a contact with wall w: `WALL | w`.
+pub const WALL: u32 = 1 << 31;
+
+/// One contact of the last evaluation (POLY variant only), world frame.
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
+pub struct ContactRecord {
+    pub i: u32,
+    /// The other body, or `WALL | w` for wall w.
+    pub j: u32,
+    /// Contact point (m).
+    pub point: Vec3,
+    /// Unit normal from j to i.
+    pub normal: Vec3,
+    /// Force on i (N); j receives the opposite.
+    pub force: Vec3,
+    /// Normal force (N) and Hertz contact radius (m).
+    pub normal_force: f64,
+    pub radius: f64,
+    /// Normal contact stiffness 2 E* a (N/m).
+    pub stiffness: f64,
+    /// Elastic energy stored in the contact (J).
+    pub energy: f64,
+}
+
+impl ContactRecord {
+    pub fn wall(&self) -> Option<usize> {
+        (self.j & WALL != 0).then_some((self.j & !WALL) as usize)
+    }
+}
+
+/// The contacts of the last evaluation and the energy damping and sliding dissipated in it.
+#[derive(Debug, Clone, Default)]
+pub struct ContactRecords {
+    pub list: Vec<ContactRecord>,
+    /// Energy dissipated by damping and sliding during the last evaluated step (J).
+    pub dissipated: f64,
 }
 
 /// Below this many bodies per thread the pair loop runs on one thread: waking a second
@@ -70,20 +131,65 @@ pub fn build_contact(params: ContactParams) -> Box<dyn Effect> {
 /// 2 threads, 2000 bodies ran at 0.86x and 4000 at 1.16x of one thread).
 const PARALLEL_MIN_BODIES_PER_THREAD: usize = 1500;
 
-/// One pair's force on i and the torques on i and j.
+/// One pair's force on i and the torques on i and j, and what a record keeps of it.
 #[derive(Debug, Clone, Copy, Default)]
 struct PairOut {
     force: Vec3,
     torque_i: Vec3,
     torque_j: Vec3,
+    point: Vec3,
+    normal: Vec3,
+    c: ContactOut,
 }
 
-/// A thread's private sums of forces and torques over the bodies `range`.
+/// The scalar results of the kernel a record keeps.
+#[derive(Debug, Clone, Copy, Default)]
+struct ContactOut {
+    normal_force: f64,
+    radius: f64,
+    stiffness: f64,
+    energy: f64,
+    dissipated: f64,
+}
+
+impl From<&ContactForce> for ContactOut {
+    #[inline(always)]
+    fn from(c: &ContactForce) -> Self {
+        ContactOut {
+            normal_force: c.normal_force,
+            radius: c.radius,
+            stiffness: c.stiffness,
+            energy: c.elastic_energy,
+            dissipated: c.dissipated,
+        }
+    }
+}
+
+impl PairOut {
+    fn record(&self, i: usize, j: u32) -> ContactRecord {
+        ContactRecord {
+            i: i as u32,
+            j,
+            point: self.point,
+            normal: self.normal,
+            force: self.force,
+            normal_force: self.c.normal_force,
+            radius: self.c.radius,
+            stiffness: self.c.stiffness,
+            energy: self.c.energy,
+        }
+    }
+}
+
+/// A thread's private sums of forces and torques over the bodies `range` (and, POLY, its
+/// contact records and dissipated energy).
 #[derive(Debug, Clone, Default)]
 struct Accumulator {
     range: Range<usize>,
     force: Vec<Vec3>,
     torque: Vec<Vec3>,
+    records: Vec<ContactRecord>,
+    dissipated: f64,
 }
 
 impl Accumulator {
@@ -93,23 +199,36 @@ impl Accumulator {
             range,
             force: vec![Vec3::zeros(); n],
             torque: vec![Vec3::zeros(); n],
+            records: Vec::new(),
+            dissipated: 0.0,
         }
     }
 
     fn clear(&mut self) {
         self.force.fill(Vec3::zeros());
         self.torque.fill(Vec3::zeros());
+        self.records.clear();
+        self.dissipated = 0.0;
     }
 }
 
-/// Contact histories in a form independent of the neighbour list, for checkpoints.
+/// Contact histories in a form independent of the neighbour list, for checkpoints: tangential
+/// displacements and (POLY) the last contact normals that warm-start the next search.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 struct SavedHistory {
     pairs: Vec<(u32, u32, [f64; 3])>,
     walls: Vec<(u32, u32, [f64; 3])>,
+    normals: Vec<(u32, u32, [f64; 3])>,
 }
 
-pub struct HertzContact<const DAMP: bool, const FRIC: bool> {
+/// A body's shape placed in the world for this evaluation (POLY variant).
+#[derive(Debug, Clone, Copy)]
+struct Placement {
+    origin: Vec3,
+    rot: nalgebra::Matrix3<f64>,
+}
+
+pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
     params: ContactParams,
     k: KernelConsts,
     /// Constants against walls (their own friction coefficient).
@@ -126,9 +245,14 @@ pub struct HertzContact<const DAMP: bool, const FRIC: bool> {
     chunk_threads: usize,
     pending: Option<SavedHistory>,
     contacts: usize,
+    /// POLY: the last normal of each pair slot (zero: none yet), the placements of this
+    /// evaluation and its records.
+    pair_normal: Vec<Vec3>,
+    placements: Vec<Placement>,
+    records: ContactRecords,
 }
 
-impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
+impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FRIC, POLY> {
     pub fn new(params: ContactParams) -> Self {
         let k = KernelConsts::new(
             &params.hertz,
@@ -157,6 +281,33 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
             chunk_threads: 0,
             pending: None,
             contacts: 0,
+            pair_normal: Vec::new(),
+            placements: Vec::new(),
+            records: ContactRecords::default(),
+        }
+    }
+
+    /// Places every poly-ellipsoid in the world for this evaluation.
+    fn place(&mut self, bodies: &Bodies) {
+        self.placements.clear();
+        self.placements.extend((0..bodies.len()).map(|i| {
+            let (origin, q) = bodies.shape_placement(i);
+            Placement {
+                origin,
+                rot: q.to_rotation_matrix().into_inner(),
+            }
+        }));
+    }
+
+    /// Body i as a convex shape in the world.
+    #[inline(always)]
+    fn placed<'a>(&self, bodies: &'a Bodies, i: usize) -> Placed<'a> {
+        match &bodies.shape[i] {
+            Shape::Sphere => Placed::sphere(bodies.radius[i], bodies.pos[i]),
+            Shape::PolyEllipsoid { pe, .. } => {
+                let p = &self.placements[i];
+                Placed::poly_ellipsoid(pe, p.origin, p.rot)
+            }
         }
     }
 
@@ -164,7 +315,7 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
         if self.pairs.skin <= 0.0 {
             self.pairs.skin = 0.4 * bodies.min_radius();
         }
-        let (old_offsets, old_partners) = if FRIC {
+        let (old_offsets, old_partners) = if FRIC || POLY {
             (
                 std::mem::take(&mut self.pairs.offsets),
                 std::mem::take(&mut self.pairs.partners),
@@ -176,6 +327,10 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
         if FRIC {
             self.pair_hist =
                 transfer_pair_data(&old_offsets, &old_partners, &self.pair_hist, &self.pairs);
+        }
+        if POLY {
+            self.pair_normal =
+                transfer_pair_data(&old_offsets, &old_partners, &self.pair_normal, &self.pairs);
         }
         self.chunk_threads = 0;
     }
@@ -194,6 +349,14 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
         let Some(saved) = self.pending.take() else {
             return;
         };
+        if POLY {
+            for (i, j, nrm) in &saved.normals {
+                let row = self.pairs.row(*i as usize);
+                if let Ok(p) = self.pairs.partners[row.clone()].binary_search(j) {
+                    self.pair_normal[row.start + p] = Vec3::from(*nrm);
+                }
+            }
+        }
         if !FRIC {
             return;
         }
@@ -212,14 +375,17 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
         }
     }
 
-    /// The force of the pair (i, j), or None when the spheres do not overlap.
+    /// The force of the pair (i, j), or None when the bodies do not overlap. `nrm` is the
+    /// pair's last normal (POLY), which warm-starts the contact search.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn pair_force(
         &self,
         bodies: &Bodies,
         i: usize,
         j: usize,
         hist: &mut Vec3,
+        nrm: &mut Vec3,
         ctx: &StepContext,
     ) -> Option<PairOut> {
         let d = bodies.pos[i] - bodies.pos[j];
@@ -232,22 +398,59 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
             }
             return None;
         }
-        let r = r2.sqrt();
-        let n = if r > 0.0 { d / r } else { Vec3::z() };
-        let delta = rsum - r;
-        let r_eff = ri * rj / rsum;
         let m_eff = if DAMP {
             let (mi, mj) = (bodies.mass[i], bodies.mass[j]);
             mi * mj / (mi + mj)
         } else {
             0.0
         };
+        if POLY && !(bodies.shape[i].is_sphere() && bodies.shape[j].is_sphere()) {
+            let guess = if *nrm == Vec3::zeros() { d } else { *nrm };
+            let Some(g) = convex::contact(
+                &self.placed(bodies, i),
+                &self.placed(bodies, j),
+                &guess,
+            ) else {
+                if FRIC {
+                    *hist = Vec3::zeros();
+                }
+                return None;
+            };
+            *nrm = g.normal;
+            let (ci, cj) = (g.point - bodies.pos[i], g.point - bodies.pos[j]);
+            let v = bodies.vel[i] + bodies.omega[i].cross(&ci)
+                - bodies.vel[j]
+                - bodies.omega[j].cross(&cj);
+            let c = hertz_mindlin::<DAMP, FRIC>(
+                &self.k,
+                &g.normal,
+                g.depth,
+                g.r_eff,
+                m_eff,
+                &v,
+                hist,
+                ctx.dt,
+                ctx.update_history,
+            );
+            return Some(PairOut {
+                force: c.force,
+                torque_i: ci.cross(&c.force),
+                torque_j: -cj.cross(&c.force),
+                point: g.point,
+                normal: g.normal,
+                c: ContactOut::from(&c),
+            });
+        }
+        let r = r2.sqrt();
+        let n = if r > 0.0 { d / r } else { Vec3::z() };
+        let delta = rsum - r;
+        let r_eff = ri * rj / rsum;
         let (di, dj) = (ri - 0.5 * delta, rj - 0.5 * delta);
         let mut v = bodies.vel[i] - bodies.vel[j];
         if FRIC {
             v -= (bodies.omega[i] * di + bodies.omega[j] * dj).cross(&n);
         }
-        let ContactForce { force, .. } = hertz_mindlin::<DAMP, FRIC>(
+        let c = hertz_mindlin::<DAMP, FRIC>(
             &self.k,
             &n,
             delta,
@@ -259,38 +462,55 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
             ctx.update_history,
         );
         let (torque_i, torque_j) = if FRIC {
-            let nxf = n.cross(&force);
+            let nxf = n.cross(&c.force);
             (nxf * (-di), nxf * (-dj))
         } else {
             (Vec3::zeros(), Vec3::zeros())
         };
         Some(PairOut {
-            force,
+            force: c.force,
             torque_i,
             torque_j,
+            point: bodies.pos[i] - n * di,
+            normal: n,
+            c: ContactOut::from(&c),
         })
     }
 
     fn pairs_serial(&mut self, bodies: &Bodies, forces: &mut Forces, ctx: &StepContext) {
         let mut count = 0;
         let mut dummy = Vec3::zeros();
+        let mut dummy_n = Vec3::zeros();
         let mut hist = std::mem::take(&mut self.pair_hist);
+        let mut normals = std::mem::take(&mut self.pair_normal);
+        let mut records = std::mem::take(&mut self.records);
         for i in 0..bodies.len() {
             for s in self.pairs.row(i) {
                 let j = self.pairs.partners[s] as usize;
                 let h = if FRIC { &mut hist[s] } else { &mut dummy };
-                if let Some(p) = self.pair_force(bodies, i, j, h, ctx) {
+                let nrm = if POLY {
+                    &mut normals[s]
+                } else {
+                    &mut dummy_n
+                };
+                if let Some(p) = self.pair_force(bodies, i, j, h, nrm, ctx) {
                     forces.force[i] += p.force;
                     forces.force[j] -= p.force;
-                    if FRIC {
+                    if FRIC || POLY {
                         forces.torque[i] += p.torque_i;
                         forces.torque[j] += p.torque_j;
+                    }
+                    if POLY {
+                        records.list.push(p.record(i, j as u32));
+                        records.dissipated += p.c.dissipated;
                     }
                     count += 1;
                 }
             }
         }
         self.pair_hist = hist;
+        self.pair_normal = normals;
+        self.records = records;
         self.contacts = count;
     }
 
@@ -325,24 +545,34 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
             })
             .collect();
         let mut hist = std::mem::take(&mut self.pair_hist);
+        let mut normals = std::mem::take(&mut self.pair_normal);
         let mut accs = std::mem::take(&mut self.accumulators);
         {
-            let hist_parts: Vec<&mut [Vec3]> = if FRIC {
-                split_ranges(&mut hist, &slot_ranges)
-            } else {
-                slot_ranges.iter().map(|_| &mut [][..]).collect()
-            };
+            fn parts<'a>(
+                data: &'a mut [Vec3],
+                on: bool,
+                ranges: &[Range<usize>],
+            ) -> Vec<&'a mut [Vec3]> {
+                if on {
+                    split_ranges(data, ranges)
+                } else {
+                    ranges.iter().map(|_| &mut [][..]).collect()
+                }
+            }
+            let hist_parts = parts(&mut hist, FRIC, &slot_ranges);
+            let normal_parts = parts(&mut normals, POLY, &slot_ranges);
             let this = &*self;
             let count: usize = this
                 .chunks
                 .par_iter()
                 .zip(accs.par_iter_mut())
-                .zip(hist_parts)
-                .map(|((rows, acc), hist)| {
+                .zip(hist_parts.into_par_iter().zip(normal_parts))
+                .map(|((rows, acc), (hist, normals))| {
                     acc.clear();
                     let base = this.pairs.offsets[rows.start] as usize;
                     let lo = acc.range.start;
                     let mut dummy = Vec3::zeros();
+                    let mut dummy_n = Vec3::zeros();
                     let mut count = 0;
                     for i in rows.clone() {
                         for s in this.pairs.row(i) {
@@ -352,12 +582,21 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
                             } else {
                                 &mut dummy
                             };
-                            if let Some(p) = this.pair_force(bodies, i, j, h, ctx) {
+                            let nrm = if POLY {
+                                &mut normals[s - base]
+                            } else {
+                                &mut dummy_n
+                            };
+                            if let Some(p) = this.pair_force(bodies, i, j, h, nrm, ctx) {
                                 acc.force[i - lo] += p.force;
                                 acc.force[j - lo] -= p.force;
-                                if FRIC {
+                                if FRIC || POLY {
                                     acc.torque[i - lo] += p.torque_i;
                                     acc.torque[j - lo] += p.torque_j;
+                                }
+                                if POLY {
+                                    acc.records.push(p.record(i, j as u32));
+                                    acc.dissipated += p.c.dissipated;
                                 }
                                 count += 1;
                             }
@@ -367,6 +606,13 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
                 })
                 .sum();
             self.contacts = count;
+        }
+        if POLY {
+            // Chunk order is row order: the same records as one thread, in the same order.
+            for acc in &accs {
+                self.records.list.extend_from_slice(&acc.records);
+                self.records.dissipated += acc.dissipated;
+            }
         }
         let accs_ref = &accs;
         forces
@@ -379,13 +625,14 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
                 for acc in accs_ref {
                     if acc.range.contains(&i) {
                         *f += acc.force[i - acc.range.start];
-                        if FRIC {
+                        if FRIC || POLY {
                             *t += acc.torque[i - acc.range.start];
                         }
                     }
                 }
             });
         self.pair_hist = hist;
+        self.pair_normal = normals;
         self.accumulators = accs;
     }
 
@@ -397,34 +644,45 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
         ctx: &StepContext,
     ) {
         let mut dummy = Vec3::zeros();
+        let mut wall_hist = std::mem::take(&mut self.wall_hist);
+        let mut records = std::mem::take(&mut self.records);
+        let this = &*self;
         for (w, wall) in walls.walls.iter_mut().enumerate() {
-            let cands = &self.wall_lists.candidates[w];
+            let cands = &this.wall_lists.candidates[w];
             for (c, &i) in cands.iter().enumerate() {
                 let i = i as usize;
                 let h = if FRIC {
-                    &mut self.wall_hist[w][c]
+                    &mut wall_hist[w][c]
                 } else {
                     &mut dummy
                 };
                 let r = bodies.radius[i];
-                let delta = r - wall.distance(&bodies.pos[i]);
+                let n = wall.normal;
+                // Lever from the centre to the contact point, overlap, Hertz radius.
+                let (lever, delta, r_eff) = if POLY && !bodies.shape[i].is_sphere() {
+                    match convex::wall_contact(&this.placed(bodies, i), &n, &wall.point) {
+                        Some(g) => (g.point - bodies.pos[i], g.depth, g.r_eff),
+                        None => (Vec3::zeros(), 0.0, 0.0),
+                    }
+                } else {
+                    let delta = r - wall.distance(&bodies.pos[i]);
+                    (n * (delta - r), delta, r)
+                };
                 if delta <= 0.0 {
                     if FRIC {
                         *h = Vec3::zeros();
                     }
                     continue;
                 }
-                let n = wall.normal;
-                let di = r - delta;
                 let mut v = bodies.vel[i] - wall.velocity;
-                if FRIC {
-                    v -= (bodies.omega[i] * di).cross(&n);
+                if FRIC || POLY {
+                    v += bodies.omega[i].cross(&lever);
                 }
                 let c = hertz_mindlin::<DAMP, FRIC>(
-                    &self.k_wall,
+                    &this.k_wall,
                     &n,
                     delta,
-                    r,
+                    r_eff,
                     bodies.mass[i],
                     &v,
                     h,
@@ -432,14 +690,27 @@ impl<const DAMP: bool, const FRIC: bool> HertzContact<DAMP, FRIC> {
                     ctx.update_history,
                 );
                 forces.force[i] += c.force;
-                if FRIC {
-                    forces.torque[i] += n.cross(&c.force) * (-di);
+                if FRIC || POLY {
+                    forces.torque[i] += lever.cross(&c.force);
+                }
+                if POLY {
+                    let out = PairOut {
+                        force: c.force,
+                        point: bodies.pos[i] + lever,
+                        normal: n,
+                        c: ContactOut::from(&c),
+                        ..Default::default()
+                    };
+                    records.list.push(out.record(i, WALL | w as u32));
+                    records.dissipated += c.dissipated;
                 }
                 wall.force -= c.force;
                 wall.stiffness += c.stiffness;
                 wall.contacts += 1;
             }
         }
+        self.wall_hist = wall_hist;
+        self.records = records;
     }
 }
 
@@ -457,7 +728,9 @@ fn split_ranges<'a, T>(mut data: &'a mut [T], ranges: &[Range<usize>]) -> Vec<&'
     parts
 }
 
-impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
+impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
+    for HertzContact<DAMP, FRIC, POLY>
+{
     fn name(&self) -> &'static str {
         "contact"
     }
@@ -485,6 +758,9 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
             Some(skin) => s.push_str(&format!("; Verlet skin {skin:e} m")),
             None => s.push_str("; Verlet skin 0.4 x the smallest radius"),
         }
+        if POLY {
+            s.push_str("; poly-ellipsoid contacts (support-function Newton, Hertz radius from the local curvatures), every contact recorded for fracture and energy");
+        }
         s
     }
 
@@ -505,6 +781,14 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
         if FRIC && self.pair_hist.len() != self.pairs.len() {
             self.pair_hist.resize(self.pairs.len(), Vec3::zeros());
         }
+        if POLY {
+            if self.pair_normal.len() != self.pairs.len() {
+                self.pair_normal.resize(self.pairs.len(), Vec3::zeros());
+            }
+            self.place(bodies);
+            self.records.list.clear();
+            self.records.dissipated = 0.0;
+        }
         let threads = threads_here();
         if threads > 1 && bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
             self.pairs_parallel(bodies, forces, ctx);
@@ -518,6 +802,10 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
         self.contacts
     }
 
+    fn records(&self) -> Option<&ContactRecords> {
+        POLY.then_some(&self.records)
+    }
+
     fn history_len(&self) -> usize {
         self.pair_hist.len() + self.wall_hist.iter().map(Vec::len).sum::<usize>()
     }
@@ -527,6 +815,9 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
     /// frequency, exact for two equal spheres. Hertz contacts stiffen as they overlap, which
     /// the Rayleigh step does not see.
     fn max_frequency(&self, bodies: &Bodies, walls: &Walls) -> f64 {
+        if POLY {
+            return records_max_frequency(&self.records.list, bodies);
+        }
         if self.pairs.offsets.len() != bodies.len() + 1 {
             return 0.0;
         }
@@ -566,11 +857,23 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
     }
 
     fn save(&self) -> Vec<u8> {
-        if !FRIC {
+        if !(FRIC || POLY) {
             return Vec::new();
         }
         let mut saved = self.pending.clone().unwrap_or_default();
-        if self.pending.is_none() {
+        if self.pending.is_none() && POLY {
+            for i in 0..self.pairs.offsets.len().saturating_sub(1) {
+                for s in self.pairs.row(i) {
+                    let nrm = self.pair_normal[s];
+                    if nrm != Vec3::zeros() {
+                        saved
+                            .normals
+                            .push((i as u32, self.pairs.partners[s], nrm.into()));
+                    }
+                }
+            }
+        }
+        if self.pending.is_none() && FRIC {
             for i in 0..self.pairs.offsets.len().saturating_sub(1) {
                 for s in self.pairs.row(i) {
                     let h = self.pair_hist[s];
@@ -594,7 +897,7 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
     }
 
     fn restore(&mut self, data: &[u8]) -> Result<()> {
-        if !FRIC || data.is_empty() {
+        if !(FRIC || POLY) || data.is_empty() {
             return Ok(());
         }
         let saved: SavedHistory = postcard::from_bytes(data).map_err(|e| {
@@ -605,7 +908,29 @@ impl<const DAMP: bool, const FRIC: bool> Effect for HertzContact<DAMP, FRIC> {
         self.wall_lists = WallLists::default();
         self.pair_hist.clear();
         self.wall_hist.clear();
+        self.pair_normal.clear();
         self.pending = Some(saved);
         Ok(())
     }
+}
+
+/// A Gershgorin bound on the highest frequency (rad/s) of the recorded contacts, translation
+/// and rotation: body i's contacts of stiffness k with lever c and normal n add `k / m_i` and
+/// `k |c × n|² / I_min,i` to its squared frequency estimate, which is then doubled (both
+/// partners move), as for spheres.
+fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies) -> f64 {
+    let mut w2 = vec![0.0; bodies.len()];
+    let mut add = |i: usize, r: &ContactRecord| {
+        let lever = r.point - bodies.pos[i];
+        let arm2 = lever.cross(&r.normal).norm_squared();
+        let inv_i = bodies.inv_inertia[i].max();
+        w2[i] += r.stiffness * (bodies.inv_mass[i] + arm2 * inv_i);
+    };
+    for r in records {
+        add(r.i as usize, r);
+        if r.wall().is_none() {
+            add(r.j as usize, r);
+        }
+    }
+    w2.iter().map(|x| (2.0 * x).sqrt()).fold(0.0, f64::max)
 }

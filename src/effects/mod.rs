@@ -12,7 +12,7 @@ use crate::error::{Error, Result};
 use crate::scene::{EffectKind, Scene};
 use crate::state::{Bodies, Forces, Walls};
 
-pub use contact::{ContactParams, build_contact};
+pub use contact::{ContactParams, ContactRecord, ContactRecords, WALL, build_contact};
 pub use gravity::Gravity;
 
 /// What an effect needs to know about the step being taken.
@@ -42,6 +42,11 @@ pub trait Effect: Send {
     /// Body–body contacts active in the last evaluation.
     fn contacts(&self) -> usize {
         0
+    }
+    /// Every contact of the last evaluation, when this effect records them (the contact
+    /// effect with poly-ellipsoids or fracture).
+    fn records(&self) -> Option<&ContactRecords> {
+        None
     }
     /// Persistent state (contact histories) for checkpoints; empty when there is none.
     fn save(&self) -> Vec<u8> {
@@ -107,6 +112,11 @@ impl Pipeline {
 
     pub fn contacts(&self) -> usize {
         self.effects.iter().map(|e| e.contacts()).sum()
+    }
+
+    /// The contact records of the last evaluation, if an effect keeps them.
+    pub fn records(&self) -> Option<&ContactRecords> {
+        self.effects.iter().find_map(|e| e.records())
     }
 
     pub fn history_len(&self) -> usize {

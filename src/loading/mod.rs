@@ -24,6 +24,9 @@ pub enum Loading {
     /// an FMU): positive speeds move a face into the sample (compression positive), as the
     /// incident and transmitted bars of a split Hopkinson pressure bar do. No end of its own.
     Faces { top: f64, bottom: f64 },
+    /// Flat platens: the top (z+) wall moves down at `speed` (m/s) until it has travelled
+    /// `end_displacement` (m); the bottom (z-) wall is fixed.
+    Platens { speed: f64, end_displacement: f64 },
 }
 
 impl Loading {
@@ -46,6 +49,18 @@ impl Loading {
                     height0: walls.box_size().z,
                 }
             }
+            LoadingKind::Platens => {
+                if !walls.is_box {
+                    return Err(scene.key_error(
+                        "loading.kind",
+                        "= \"platens\" needs a sample in a box (single, random, lattice or file)",
+                    ));
+                }
+                Loading::Platens {
+                    speed: l.speed.expect("validated"),
+                    end_displacement: l.end_displacement.expect("validated"),
+                }
+            }
         })
     }
 
@@ -60,6 +75,10 @@ impl Loading {
             } => {
                 let top = walls.face_mut(BoxFace::ZMax);
                 top.velocity = top.normal * (strain_rate * height0);
+            }
+            Loading::Platens { speed, .. } => {
+                let top = walls.face_mut(BoxFace::ZMax);
+                top.velocity = top.normal * *speed;
             }
             Loading::Faces { top, bottom } => {
                 for (face, speed) in [(BoxFace::ZMax, top), (BoxFace::ZMin, bottom)] {
@@ -80,6 +99,10 @@ impl Loading {
                 ..
             } => end_strain / strain_rate,
             Loading::Faces { .. } => f64::INFINITY,
+            Loading::Platens {
+                speed,
+                end_displacement,
+            } => end_displacement / speed,
         }
     }
 
@@ -97,13 +120,21 @@ impl Loading {
             Loading::Faces { top, bottom } => format!(
                 "faces driven from outside: top (z+) at {top} m/s and bottom (z-) at {bottom} m/s into the sample"
             ),
+            Loading::Platens {
+                speed,
+                end_displacement,
+            } => format!(
+                "platens: top (z+) moves down at {speed} m/s for {end_displacement:e} m; the bottom is fixed"
+            ),
         }
     }
 
     /// Adds the loading's own results to the summary.
     pub fn summarize(&self, series: &Series, out: &mut serde_json::Map<String, serde_json::Value>) {
-        if let Loading::Oedometer { end_strain, .. } = self {
-            oedometer_summary(series, *end_strain, out);
+        match self {
+            Loading::Oedometer { end_strain, .. } => oedometer_summary(series, *end_strain, out),
+            Loading::Platens { .. } => platen_summary(series, out),
+            _ => {}
         }
     }
 }
@@ -160,6 +191,60 @@ fn oedometer_summary(
     );
 }
 
+/// A force peak counts when the force afterwards drops below this fraction of it.
+const PEAK_DROP: f64 = 0.7;
+
+/// The force–displacement peaks between platens: `first_peak_force` and `second_peak_force`
+/// (N) with their displacements (m), the first two local maxima of the top platen's force
+/// each followed by a drop to below 70% of it (a crack through the grain unloads the platen);
+/// and `max_force`.
+fn platen_summary(series: &Series, out: &mut serde_json::Map<String, serde_json::Value>) {
+    let (Some(disp), Some(force)) = (series.column("displacement"), series.column("force_top"))
+    else {
+        return;
+    };
+    let peaks = force_peaks(&force, PEAK_DROP);
+    let keys = [
+        ("first_peak_force", "first_peak_displacement"),
+        ("second_peak_force", "second_peak_displacement"),
+    ];
+    for (k, (fk, dk)) in keys.iter().enumerate() {
+        match peaks.get(k) {
+            Some(&p) => {
+                out.insert((*fk).into(), force[p].into());
+                out.insert((*dk).into(), disp[p].into());
+            }
+            None => {
+                out.insert((*fk).into(), serde_json::Value::Null);
+                out.insert((*dk).into(), serde_json::Value::Null);
+            }
+        }
+    }
+    out.insert(
+        "max_force".into(),
+        force.iter().copied().fold(0.0, f64::max).into(),
+    );
+}
+
+/// Indices of the peaks of `f`: each the largest value since the last peak's drop, followed by
+/// a value below `drop` times it.
+pub fn force_peaks(f: &[f64], drop: f64) -> Vec<usize> {
+    let mut peaks = Vec::new();
+    let mut best: Option<usize> = None;
+    for (k, &v) in f.iter().enumerate() {
+        match best {
+            Some(b) if v < drop * f[b] => {
+                peaks.push(b);
+                best = None;
+            }
+            Some(b) if v > f[b] => best = Some(k),
+            None if v > 0.0 => best = Some(k),
+            _ => {}
+        }
+    }
+    peaks
+}
+
 /// Slope of the least-squares line through `pts`.
 pub fn least_squares_slope(pts: &[(f64, f64)]) -> f64 {
     let n = pts.len() as f64;
@@ -173,6 +258,15 @@ pub fn least_squares_slope(pts: &[(f64, f64)]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn two_peaks_of_a_crushing_curve() {
+        // Rise, crack (drop), recompression to a higher peak, crushing.
+        let f = [0.0, 5.0, 10.0, 12.0, 3.0, 6.0, 14.0, 16.0, 15.0, 2.0, 1.0];
+        assert_eq!(force_peaks(&f, 0.7), vec![3, 7]);
+        // A wobble that does not drop below 70% is no peak.
+        assert_eq!(force_peaks(&[1.0, 2.0, 1.5, 3.0], 0.7), Vec::<usize>::new());
+    }
 
     #[test]
     fn slope_of_a_line() {

@@ -83,6 +83,108 @@ pub fn particles_vtu(bodies: &Bodies, forces: &Forces) -> String {
     out
 }
 
+/// The 26 directions of a cube's face centres, edge midpoints and corners (grid points of
+/// {-1, 0, 1}³ but the centre), numbered x fastest, and the 48 triangles of the cube sphere
+/// they span (each face's 2 × 2 quads split in two, outward).
+fn cube_sphere() -> (Vec<Vec3>, Vec<[usize; 3]>) {
+    let index = |x: i32, y: i32, z: i32| {
+        let k = ((z + 1) * 9 + (y + 1) * 3 + (x + 1)) as usize;
+        if k > 13 { k - 1 } else { k }
+    };
+    let mut dirs = Vec::with_capacity(26);
+    for z in -1..=1 {
+        for y in -1..=1 {
+            for x in -1..=1 {
+                if (x, y, z) != (0, 0, 0) {
+                    dirs.push(Vec3::new(x as f64, y as f64, z as f64));
+                }
+            }
+        }
+    }
+    let mut tris = Vec::with_capacity(48);
+    for axis in 0..3 {
+        for side in [-1, 1] {
+            // Face normal along `axis` at `side`; (u, v) the other two axes, right-handed
+            // with the outward normal.
+            let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
+            let (u, v) = if side > 0 { (u, v) } else { (v, u) };
+            let at = |a: i32, b: i32| {
+                let mut c = [0i32; 3];
+                c[axis] = side;
+                c[u] = a;
+                c[v] = b;
+                index(c[0], c[1], c[2])
+            };
+            for a in -1..1 {
+                for b in -1..1 {
+                    tris.push([at(a, b), at(a + 1, b), at(a + 1, b + 1)]);
+                    tris.push([at(a, b), at(a + 1, b + 1), at(a, b + 1)]);
+                }
+            }
+        }
+    }
+    (dirs, tris)
+}
+
+/// Every grain's surface as a closed triangle mesh through 26 of its surface points (along
+/// the directions of a cube's faces, edges and corners in its shape frame, so the tips of its
+/// six semi-axes are vertices), for grains that are not spheres and for spheres alike; per
+/// cell, the grain's id and the grain of the sample it comes from.
+pub fn grains_vtu(bodies: &Bodies, origin: &[u32]) -> String {
+    use crate::shape::Shape;
+    let (dirs, tris) = cube_sphere();
+    let n = bodies.len();
+    let mut points = Vec::with_capacity(26 * n);
+    for i in 0..n {
+        let (o, q) = bodies.shape_placement(i);
+        for d in &dirs {
+            let local = match &bodies.shape[i] {
+                Shape::Sphere => d.normalize() * bodies.radius[i],
+                Shape::PolyEllipsoid { pe, .. } => pe.surface_point(d),
+            };
+            points.push(o + q * local);
+        }
+    }
+    let cells = tris.len() * n;
+    let mut out = String::with_capacity(64 * points.len() + 48 * cells + 1024);
+    header(&mut out, points.len(), cells);
+    out.push_str("      <Points>
+");
+    vectors(&mut out, "position", points.into_iter());
+    out.push_str("      </Points>
+      <Cells>
+");
+    integers(
+        &mut out,
+        "connectivity",
+        "Int64",
+        (0..n).flat_map(|i| tris.iter().flatten().map(move |&k| (26 * i + k) as u64)),
+    );
+    integers(&mut out, "offsets", "Int64", (1..=cells as u64).map(|k| 3 * k));
+    integers(&mut out, "types", "UInt8", std::iter::repeat_n(5, cells));
+    out.push_str("      </Cells>
+      <CellData Scalars=\"id\">
+");
+    integers(
+        &mut out,
+        "id",
+        "Int64",
+        (0..n).flat_map(|i| std::iter::repeat_n(i as u64, tris.len())),
+    );
+    integers(
+        &mut out,
+        "grain",
+        "Int64",
+        (0..n).flat_map(|i| {
+            std::iter::repeat_n(origin.get(i).copied().unwrap_or(i as u32) as u64, tris.len())
+        }),
+    );
+    out.push_str("      </CellData>
+");
+    footer(&mut out);
+    out
+}
+
 /// The six faces of a box as quads, with the compressive normal stress on each (Pa).
 pub fn box_walls_vtu(walls: &Walls) -> String {
     let lo = Vec3::new(
@@ -153,4 +255,30 @@ pub fn pvd(frames: &[(f64, String)]) -> String {
     }
     out.push_str("  </Collection>\n</VTKFile>\n");
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The cube sphere is closed and outward: its signed volume through the 26 directions is
+    /// that of the cube [-1, 1]³, and every edge is shared by exactly two triangles.
+    #[test]
+    fn cube_sphere_is_a_closed_outward_surface() {
+        let (dirs, tris) = cube_sphere();
+        assert_eq!((dirs.len(), tris.len()), (26, 48));
+        let volume: f64 = tris
+            .iter()
+            .map(|t| dirs[t[0]].dot(&dirs[t[1]].cross(&dirs[t[2]])) / 6.0)
+            .sum();
+        assert!((volume - 8.0).abs() < 1e-12, "{volume}");
+        let mut edges = std::collections::HashMap::new();
+        for t in &tris {
+            for k in 0..3 {
+                let (a, b) = (t[k].min(t[(k + 1) % 3]), t[k].max(t[(k + 1) % 3]));
+                *edges.entry((a, b)).or_insert(0) += 1;
+            }
+        }
+        assert!(edges.values().all(|&c| c == 2));
+    }
 }

@@ -1,6 +1,8 @@
 //! Measurements recorded during a run: the rows of series.csv.
 
+pub mod energy;
 pub mod fragments;
+pub mod size_distribution;
 
 use serde::{Deserialize, Serialize};
 
@@ -69,6 +71,53 @@ pub const BOX_COLUMNS: [&str; 10] = [
 
 /// Columns when there is no box: time, kinetic energy and contacts.
 pub const FREE_COLUMNS: [&str; 3] = ["time", "kinetic_energy", "contacts"];
+
+/// Columns between platens (single-grain crushing): time (s), platen displacement (m), the
+/// compressive force on the top and on the bottom platen (N), kinetic energy (J), body–body
+/// and body–wall contacts.
+pub const PLATEN_COLUMNS: [&str; 7] = [
+    "time",
+    "displacement",
+    "force_top",
+    "force_bottom",
+    "kinetic_energy",
+    "contacts",
+    "wall_contacts",
+];
+
+/// Columns added by the `fracture` effect: bodies, grains broken, fragments (pieces of broken
+/// grains, counting bonded halves as one), intact cohesive springs, elastic energy in the
+/// contacts (J), work of the walls on the sample (J), energy dissipated by contact damping and
+/// sliding (J) and spent in fracture by the springs (J).
+pub const FRACTURE_COLUMNS: [&str; 8] = [
+    "bodies",
+    "broken_particles",
+    "fragments",
+    "intact_springs",
+    "elastic_energy",
+    "boundary_work",
+    "dissipated",
+    "fracture_energy",
+];
+
+/// One row between platens.
+pub fn platen_row(
+    time: f64,
+    height0: f64,
+    bodies: &Bodies,
+    walls: &Walls,
+    contacts: usize,
+) -> Vec<f64> {
+    vec![
+        time,
+        height0 - walls.box_size().z,
+        walls.face(BoxFace::ZMax).normal_force(),
+        walls.face(BoxFace::ZMin).normal_force(),
+        bodies.kinetic_energy(),
+        contacts as f64,
+        walls.walls.iter().map(|w| w.contacts).sum::<usize>() as f64,
+    ]
+}
 
 /// One row of box measurements.
 pub fn box_row(

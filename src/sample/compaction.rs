@@ -70,11 +70,14 @@ pub fn compact_to_pressure(
         mindlin: (friction > 0.0).then(|| Mindlin::new(m.young, m.poisson, friction)),
         wall_friction: None,
         skin: scene.neighbor.skin,
+        shapes: bodies.shape.iter().any(|s| !s.is_sphere()),
     };
     let dt = 0.2 * rayleigh_time_step(bodies.min_radius(), m.density, m.young, m.poisson);
     let mut c = Compactor {
         contact: build_contact(params),
-        vv: VelocityVerlet::default(),
+        vv: VelocityVerlet {
+            track_orientation: bodies.shape.iter().any(|s| !s.is_sphere()),
+        },
         forces: Forces::new(bodies.len()),
         dt,
         mean_r: bodies.radius.iter().sum::<f64>() / bodies.len() as f64,

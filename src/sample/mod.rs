@@ -16,8 +16,8 @@ use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::scene::{SampleKind, Scene};
-use crate::shape::sphere_volume;
+use crate::scene::{GrainShape, Orientations, SampleKind, Scene};
+use crate::shape::{PolyEllipsoid, sphere_volume};
 use crate::state::{Bodies, Vec3, Walls};
 
 pub use compaction::{CompactionReport, compact_to_pressure};
@@ -55,6 +55,53 @@ pub(crate) fn stream(seed: u64, purpose: u64) -> ChaCha8Rng {
 const STREAM_RADII: u64 = 1;
 const STREAM_POSITIONS: u64 = 2;
 const STREAM_ORIENTATIONS: u64 = 3;
+const STREAM_SHAPES: u64 = 4;
+
+/// `kind = "single"`: one grain of `semi_axes`, its shape frame aligned with the box (or
+/// turned at random with `orientations = "random"`), resting on the bottom face, the top face
+/// touching it, centred in the box's base.
+fn single_grain(scene: &Scene, orient: &mut ChaCha8Rng) -> Result<(Bodies, Walls)> {
+    let spec = &scene.sample;
+    let semi = spec.semi_axes.expect("validated");
+    let pe = PolyEllipsoid::new(semi).map_err(|m| scene.key_error("sample.semi_axes", m))?;
+    let q = match spec.orientations.unwrap_or(Orientations::Aligned) {
+        Orientations::Random => random_orientation(orient),
+        Orientations::Aligned => UnitQuaternion::identity(),
+    };
+    let bx = spec.box_size.expect("validated");
+    // Extent of the grain along z about its octant origin.
+    let up = pe.support_value(&(q.inverse() * Vec3::z()));
+    let down = pe.support_value(&(q.inverse() * -Vec3::z()));
+    let origin = Vec3::new(0.5 * bx[0], 0.5 * bx[1], down);
+    let mut b = Bodies::default();
+    let rho = scene.material.density;
+    if semi.iter().all(|&s| s == semi[0]) {
+        b.push_sphere(origin, semi[0], rho, q);
+    } else {
+        b.push_poly_ellipsoid(pe, rho * pe.volume(), origin + q * pe.centroid(), q);
+    }
+    let hi = Vec3::new(bx[0], bx[1], up + down);
+    Ok((b, Walls::new_box(Vec3::zeros(), hi)))
+}
+
+/// `shape = "poly_ellipsoid"`: each packed sphere of radius r becomes a poly-ellipsoid inside
+/// it, its six semi-axes drawn uniformly in [r / aspect_ratio_max, r] (so that each axis ratio
+/// lies between 1 and the maximum), its octant origin at the sphere's centre and its shape
+/// frame the sphere's orientation.
+fn poly_ellipsoids_in_spheres(scene: &Scene, spheres: &Bodies) -> Bodies {
+    let aspect = scene.sample.aspect_ratio_max.unwrap_or(2.0);
+    let mut rng = stream(scene.seed, STREAM_SHAPES);
+    let rho = scene.material.density;
+    let mut b = Bodies::default();
+    for i in 0..spheres.len() {
+        let r = spheres.radius[i];
+        let semi = [(); 6].map(|_| r * (1.0 / aspect + (1.0 - 1.0 / aspect) * rng.random::<f64>()));
+        let pe = PolyEllipsoid::new(semi).expect("positive semi-axes");
+        let q = spheres.orientation[i];
+        b.push_poly_ellipsoid(pe, rho * pe.volume(), spheres.pos[i] + q * pe.centroid(), q);
+    }
+    b
+}
 
 /// Builds the sample a scene describes. `progress` receives one-line notes on long stages.
 pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Sample> {
@@ -103,11 +150,22 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<S
             };
             (b, Walls::new_box(lo, hi))
         }
+        SampleKind::Single => single_grain(scene, &mut orient)?,
     };
-    if spec.kind == SampleKind::Random {
+    let default_orientations = if spec.kind == SampleKind::Random {
+        Orientations::Random
+    } else {
+        Orientations::Aligned
+    };
+    if spec.kind != SampleKind::Single
+        && spec.orientations.unwrap_or(default_orientations) == Orientations::Random
+    {
         for q in &mut bodies.orientation {
             *q = random_orientation(&mut orient);
         }
+    }
+    if spec.shape == Some(GrainShape::PolyEllipsoid) {
+        bodies = poly_ellipsoids_in_spheres(scene, &bodies);
     }
     let mut compaction_steps = 0;
     if let Some(p) = spec.pressure {

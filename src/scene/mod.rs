@@ -43,6 +43,11 @@ pub struct Scene {
     pub neighbor: NeighborSpec,
     #[serde(default)]
     pub walls: WallSpec,
+    // granular particle fracture
+    /// Criteria, strength statistics, break planes and cohesion of breaking grains (used by
+    /// the `fracture`, `weibull` and `cohesion` effects).
+    #[serde(default)]
+    pub fracture: FractureSpec,
     /// Where the scene came from (for messages and relative paths); not a key.
     #[serde(skip)]
     pub source: SceneSource,
@@ -103,6 +108,8 @@ pub enum SampleKind {
     LammpsData,
     /// A YADE `ymport.text` / `export.textExt(..., 'x_y_z_r')` file: `x y z r` per line.
     YadeText,
+    /// One grain (`semi_axes`) resting on the bottom of a box whose top touches it.
+    Single,
 }
 
 impl SampleKind {
@@ -114,6 +121,7 @@ impl SampleKind {
             SampleKind::Text => "text",
             SampleKind::LammpsData => "lammps_data",
             SampleKind::YadeText => "yade_text",
+            SampleKind::Single => "single",
         }
     }
 }
@@ -147,6 +155,32 @@ pub struct SampleSpec {
     pub layers: Option<[usize; 3]>,
     /// Packing file (text, lammps_data), relative to the scene file.
     pub file: Option<String>,
+    // granular particle fracture
+    /// Orientation of the grains' principal directions: "random" (uniform; the default for
+    /// random packings) or "aligned" with the box axes (the default for the other kinds).
+    pub orientations: Option<Orientations>,
+    /// Grain shape of random packings: "sphere" (default) or "poly_ellipsoid".
+    pub shape: Option<GrainShape>,
+    /// Poly-ellipsoids of random packings: each semi-axis is drawn uniformly in
+    /// [r / aspect_ratio_max, r] for a packed sphere of radius r; in [1, 4], default 2.
+    pub aspect_ratio_max: Option<f64>,
+    /// The grain of `kind = "single"`: semi-axes [a+, a-, b+, b-, c+, c-] (m) along the
+    /// grain's +x, -x, +y, -y, +z, -z.
+    pub semi_axes: Option<[f64; 6]>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Orientations {
+    Random,
+    Aligned,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum GrainShape {
+    Sphere,
+    PolyEllipsoid,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -176,6 +210,13 @@ pub enum EffectKind {
     Friction,
     /// Body force m·g.
     Gravity,
+    /// Particle fracture: Hoek–Brown and contact tensile criteria, subdivision into two
+    /// sub-poly-ellipsoids.
+    Fracture,
+    /// Cohesive springs between the sub-particles of a split (Eq. 35–43).
+    Cohesion,
+    /// Weibull statistics and size effect of the grains' strength (Eq. 18).
+    Weibull,
 }
 
 impl EffectKind {
@@ -185,6 +226,9 @@ impl EffectKind {
             EffectKind::Damping => "damping",
             EffectKind::Friction => "friction",
             EffectKind::Gravity => "gravity",
+            EffectKind::Fracture => "fracture",
+            EffectKind::Cohesion => "cohesion",
+            EffectKind::Weibull => "weibull",
         }
     }
 }
@@ -197,6 +241,9 @@ pub enum LoadingKind {
     /// Oedometric compression: the top (+z) wall moves down at a constant strain rate, the
     /// other five walls are fixed.
     Oedometer,
+    /// Flat platens: the top (+z) wall moves down at `speed` until it has travelled
+    /// `end_displacement`; the bottom is fixed (single-grain crushing).
+    Platens,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -209,6 +256,11 @@ pub struct LoadingSpec {
     pub end_strain: Option<f64>,
     /// Duration of the run (s) for `kind = "none"`.
     pub end_time: Option<f64>,
+    // granular particle fracture
+    /// Speed of the top platen (m/s), > 0, for `kind = "platens"`.
+    pub speed: Option<f64>,
+    /// Platen travel (m) at which a `platens` run ends, > 0.
+    pub end_displacement: Option<f64>,
 }
 
 /// The time step: a number of seconds, or "auto" for the Rayleigh critical step × safety.
@@ -261,6 +313,11 @@ pub struct OutputSpec {
     /// Steps between VTK snapshots; 0 writes none.
     #[serde(default)]
     pub vtk: u64,
+    // granular particle fracture
+    /// Axial strains at which summary.json reports the stress (`stress_at_strain`) and
+    /// psd.csv the size distribution (oedometer runs with `fracture`); default 0.05, 0.1,
+    /// 0.2, 0.3, 0.4 (those up to `loading.end_strain`).
+    pub report_strains: Option<Vec<f64>>,
 }
 
 fn default_every() -> u64 {
@@ -272,6 +329,7 @@ impl Default for OutputSpec {
         OutputSpec {
             every: default_every(),
             vtk: 0,
+            report_strains: None,
         }
     }
 }
@@ -310,6 +368,86 @@ pub struct WallSpec {
     /// Coulomb friction between grains and walls (default: material.friction); 0 models
     /// lubricated walls.
     pub friction: Option<f64>,
+}
+
+/// Particle fracture of the granular model (poly-ellipsoid-fracture-shpb.txt, Section 3).
+/// Stresses in Pa, compression positive where Hoek–Brown is concerned.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FractureSpec {
+    /// Hoek–Brown material constant m_i (Eq. 14), > 0; default 20.56 (Fig. 6).
+    #[serde(default = "default_mi")]
+    pub mi: f64,
+    /// Hoek–Brown compressive strength σ_c (Pa), > 0; default 592 MPa (Fig. 6). With
+    /// `weibull`, the strength of a grain of `reference_radius` with P = 1/e.
+    #[serde(default = "default_sigma_c")]
+    pub sigma_c: f64,
+    /// Tensile strength σ_fM (Pa) of the contact criterion (Eq. 17); with `weibull`, that of
+    /// a grain of `reference_radius` with P = 1/e (Eq. 18). Required with `fracture`.
+    pub reference_strength: Option<f64>,
+    /// Reference equivalent radius x_M (m) of the Weibull size effect (Eq. 18); required with
+    /// `weibull`.
+    pub reference_radius: Option<f64>,
+    /// Weibull modulus w (Eq. 18), > 0; default 1.
+    #[serde(default = "default_weibull_modulus")]
+    pub weibull_modulus: f64,
+    /// Contacts above the tensile strength that break a grain, in [3, 64]; default 3.
+    #[serde(default = "default_critical_contacts")]
+    pub critical_contacts: usize,
+    /// Fracture toughness K_Ic (Pa·m^½) giving the cohesive energy G_c = K_Ic² / E' (Eq. 38);
+    /// default 1.77 MPa·m^½ (silica sand).
+    #[serde(default = "default_toughness")]
+    pub toughness: f64,
+    /// Cohesive springs n_s on a break plane, in [3, 16]; default 4.
+    #[serde(default = "default_springs")]
+    pub springs: usize,
+    /// Spheres turn their principal directions to the ideal break plane (Section 3.3);
+    /// default true.
+    #[serde(default = "yes")]
+    pub ideal_plane: bool,
+    /// Random slight rotation of the break plane by θ in [θmax/2, θmax], θmax = arctan(1/5)
+    /// (Section 3.3.1); default true.
+    #[serde(default = "yes")]
+    pub plane_jitter: bool,
+}
+
+fn default_mi() -> f64 {
+    20.56
+}
+fn default_sigma_c() -> f64 {
+    592e6
+}
+fn default_weibull_modulus() -> f64 {
+    1.0
+}
+fn default_critical_contacts() -> usize {
+    3
+}
+fn default_toughness() -> f64 {
+    1.77e6
+}
+fn default_springs() -> usize {
+    4
+}
+fn yes() -> bool {
+    true
+}
+
+impl Default for FractureSpec {
+    fn default() -> Self {
+        FractureSpec {
+            mi: default_mi(),
+            sigma_c: default_sigma_c(),
+            reference_strength: None,
+            reference_radius: None,
+            weibull_modulus: default_weibull_modulus(),
+            critical_contacts: default_critical_contacts(),
+            toughness: default_toughness(),
+            springs: default_springs(),
+            ideal_plane: true,
+            plane_jitter: true,
+        }
+    }
 }
 
 impl Scene {

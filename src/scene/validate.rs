@@ -1,6 +1,6 @@
 //! Range checks: each failure names the key, its value and the allowed range.
 
-use super::{DtSpec, EffectKind, LoadingKind, SampleKind, Scene};
+use super::{DtSpec, EffectKind, GrainShape, LoadingKind, SampleKind, Scene};
 use crate::error::Result;
 
 /// An allowed interval, printed in the usual notation: (a, b] and so on.
@@ -108,6 +108,7 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
 
     validate_sample(s)?;
     validate_effects(s)?;
+    validate_fracture(s)?;
 
     let l = &s.loading;
     match l.kind {
@@ -117,6 +118,13 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
             check(s, "loading.strain_rate", rate, Range::POSITIVE, "1/s")?;
             let end = require(s, "loading.end_strain", l.end_strain, why)?;
             check(s, "loading.end_strain", end, Range::open(0.0, 1.0), "")?;
+        }
+        LoadingKind::Platens => {
+            let why = "for loading.kind = \"platens\"";
+            let speed = require(s, "loading.speed", l.speed, why)?;
+            check(s, "loading.speed", speed, Range::POSITIVE, "m/s")?;
+            let travel = require(s, "loading.end_displacement", l.end_displacement, why)?;
+            check(s, "loading.end_displacement", travel, Range::POSITIVE, "m")?;
         }
         LoadingKind::None => {
             let end = require(
@@ -155,6 +163,63 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
     }
     if let Some(skin) = s.neighbor.skin {
         check(s, "neighbor.skin", skin, Range::POSITIVE, "m")?;
+    }
+    if let Some(strains) = &s.output.report_strains {
+        for &e in strains {
+            check(s, "output.report_strains", e, Range::open(0.0, 1.0), "")?;
+        }
+    }
+    Ok(())
+}
+
+/// The `[fracture]` keys, and what the fracture effects need.
+fn validate_fracture(s: &Scene) -> Result<()> {
+    let f = &s.fracture;
+    check(s, "fracture.mi", f.mi, Range::POSITIVE, "")?;
+    check(s, "fracture.sigma_c", f.sigma_c, Range::POSITIVE, "Pa")?;
+    check(
+        s,
+        "fracture.weibull_modulus",
+        f.weibull_modulus,
+        Range::POSITIVE,
+        "",
+    )?;
+    check(s, "fracture.toughness", f.toughness, Range::POSITIVE, "Pa m^0.5")?;
+    check(
+        s,
+        "fracture.critical_contacts",
+        f.critical_contacts as f64,
+        Range::closed(3.0, 64.0),
+        "",
+    )?;
+    check(
+        s,
+        "fracture.springs",
+        f.springs as f64,
+        Range::closed(3.0, 16.0),
+        "",
+    )?;
+    if let Some(v) = f.reference_strength {
+        check(s, "fracture.reference_strength", v, Range::POSITIVE, "Pa")?;
+    }
+    if let Some(v) = f.reference_radius {
+        check(s, "fracture.reference_radius", v, Range::POSITIVE, "m")?;
+    }
+    if s.has_effect(EffectKind::Fracture) {
+        require(
+            s,
+            "fracture.reference_strength",
+            f.reference_strength,
+            "with the \"fracture\" effect (the contact tensile strength)",
+        )?;
+    }
+    if s.has_effect(EffectKind::Weibull) {
+        require(
+            s,
+            "fracture.reference_radius",
+            f.reference_radius,
+            "with the \"weibull\" effect",
+        )?;
     }
     Ok(())
 }
@@ -241,6 +306,40 @@ fn validate_sample(s: &Scene) -> Result<()> {
                 return Err(s.key_error("sample.file", format!("is required {why}")));
             }
         }
+        SampleKind::Single => {
+            let semi = require(s, "sample.semi_axes", p.semi_axes, &why)?;
+            for v in semi {
+                if !Range::POSITIVE.contains(v) {
+                    return Err(s.key_error(
+                        "sample.semi_axes",
+                        format!("has {v}, outside the allowed range (0, ∞) m"),
+                    ));
+                }
+            }
+            let bx = require(s, "sample.box", p.box_size, &why)?;
+            let width = 2.0 * semi.iter().copied().fold(0.0, f64::max);
+            for (axis, v) in ["x", "y"].iter().zip(bx) {
+                if v <= width {
+                    return Err(s.key_error(
+                        "sample.box",
+                        format!(
+                            "has {axis} edge {v} m, which must exceed the grain's largest extent {width} m"
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    if let Some(a) = p.aspect_ratio_max {
+        check(s, "sample.aspect_ratio_max", a, Range::closed(1.0, 4.0), "")?;
+    }
+    if p.shape == Some(GrainShape::PolyEllipsoid) && p.kind != SampleKind::Random {
+        return Err(s.key_error(
+            "sample.shape",
+            format!(
+                "= \"poly_ellipsoid\" applies to sample.kind = \"random\" only, not \"{kind}\""
+            ),
+        ));
     }
     Ok(())
 }
@@ -256,7 +355,27 @@ fn validate_effects(s: &Scene) -> Result<()> {
         }
         seen.push(*e);
     }
-    for needs_contact in [EffectKind::Damping, EffectKind::Friction] {
+    for (effect, needs) in [
+        (EffectKind::Cohesion, EffectKind::Fracture),
+        (EffectKind::Weibull, EffectKind::Fracture),
+    ] {
+        if s.has_effect(effect) && !s.has_effect(needs) {
+            return Err(s.key_error(
+                "effects",
+                format!(
+                    "lists \"{}\" without \"{}\"; it acts on breaking grains, so add \"{}\"",
+                    effect.as_str(),
+                    needs.as_str(),
+                    needs.as_str()
+                ),
+            ));
+        }
+    }
+    for needs_contact in [
+        EffectKind::Damping,
+        EffectKind::Friction,
+        EffectKind::Fracture,
+    ] {
         if s.has_effect(needs_contact) && !s.has_effect(EffectKind::Contact) {
             return Err(s.key_error(
                 "effects",

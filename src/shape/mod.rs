@@ -1,11 +1,50 @@
 //! Particle shapes. Spheres are the fast special case: their radius lives in
-//! `Bodies::radius` and their contact needs no orientation.
+//! `Bodies::radius` and their contact needs no orientation. Poly-ellipsoids
+//! ([`poly_ellipsoid`]) come from breaking grains or from poly-ellipsoid samples.
 
+pub mod poly_ellipsoid;
+
+use nalgebra::UnitQuaternion;
 use serde::{Deserialize, Serialize};
+
+use crate::state::Vec3;
+pub use poly_ellipsoid::PolyEllipsoid;
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Shape {
     Sphere,
+    /// A poly-ellipsoid in its body. The body frame is the principal frame of inertia with the
+    /// centre of mass at the body's position; the shape frame (the octants' axes) sits in it at
+    /// `origin`, turned by `to_body`.
+    PolyEllipsoid {
+        pe: PolyEllipsoid,
+        /// The octant origin in the body frame (m).
+        origin: Vec3,
+        /// Turns shape-frame vectors into the body frame.
+        to_body: UnitQuaternion<f64>,
+    },
+}
+
+impl Shape {
+    /// Volume (m³) of a body of this shape with bounding radius `radius`.
+    pub fn volume(&self, radius: f64) -> f64 {
+        match self {
+            Shape::Sphere => sphere_volume(radius),
+            Shape::PolyEllipsoid { pe, .. } => pe.volume(),
+        }
+    }
+
+    /// Semi-axes [a+, a-, b+, b-, c+, c-] (m): a sphere's are all its radius.
+    pub fn semi_axes(&self, radius: f64) -> [f64; 6] {
+        match self {
+            Shape::Sphere => [radius; 6],
+            Shape::PolyEllipsoid { pe, .. } => pe.semi,
+        }
+    }
+
+    pub fn is_sphere(&self) -> bool {
+        matches!(self, Shape::Sphere)
+    }
 }
 
 /// Mass (kg) of a sphere of radius `r` (m) and density `rho` (kg/m³).

@@ -6,7 +6,7 @@ mod walls;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::shape::{self, Shape};
+use crate::shape::{self, PolyEllipsoid, Shape};
 
 pub use walls::{BoxFace, Wall, Walls};
 
@@ -65,6 +65,82 @@ impl Bodies {
         self.shape.push(Shape::Sphere);
     }
 
+    /// Adds a poly-ellipsoid of mass `mass` (kg) at rest, with its centroid at `centroid` and
+    /// its shape frame turned by `shape_orientation` (shape to world). Its body frame is its
+    /// principal frame of inertia. Returns its index.
+    pub fn push_poly_ellipsoid(
+        &mut self,
+        pe: PolyEllipsoid,
+        mass: f64,
+        centroid: Vec3,
+        shape_orientation: UnitQuaternion<f64>,
+    ) -> usize {
+        let (moments, frame) = pe.principal_inertia(mass / pe.volume());
+        let to_body = frame.inverse();
+        self.pos.push(centroid);
+        self.vel.push(Vec3::zeros());
+        self.omega.push(Vec3::zeros());
+        self.orientation.push(shape_orientation * frame);
+        self.radius.push(pe.bounding_radius());
+        self.mass.push(mass);
+        self.inv_mass.push(1.0 / mass);
+        self.inertia.push(moments);
+        self.inv_inertia.push(moments.map(|m| 1.0 / m));
+        self.shape.push(Shape::PolyEllipsoid {
+            pe,
+            origin: to_body * -pe.centroid(),
+            to_body,
+        });
+        self.len() - 1
+    }
+
+    /// Turns body `i` into `other`'s body `k` (every array), keeping the array lengths.
+    pub fn copy_from(&mut self, i: usize, other: &Bodies, k: usize) {
+        self.pos[i] = other.pos[k];
+        self.vel[i] = other.vel[k];
+        self.omega[i] = other.omega[k];
+        self.orientation[i] = other.orientation[k];
+        self.radius[i] = other.radius[k];
+        self.mass[i] = other.mass[k];
+        self.inv_mass[i] = other.inv_mass[k];
+        self.inertia[i] = other.inertia[k];
+        self.inv_inertia[i] = other.inv_inertia[k];
+        self.shape[i] = other.shape[k];
+    }
+
+    /// Appends `other`'s body `k`.
+    pub fn push_from(&mut self, other: &Bodies, k: usize) {
+        self.pos.push(other.pos[k]);
+        self.vel.push(other.vel[k]);
+        self.omega.push(other.omega[k]);
+        self.orientation.push(other.orientation[k]);
+        self.radius.push(other.radius[k]);
+        self.mass.push(other.mass[k]);
+        self.inv_mass.push(other.inv_mass[k]);
+        self.inertia.push(other.inertia[k]);
+        self.inv_inertia.push(other.inv_inertia[k]);
+        self.shape.push(other.shape[k]);
+    }
+
+    /// Volume (m³) of body i.
+    pub fn volume(&self, i: usize) -> f64 {
+        self.shape[i].volume(self.radius[i])
+    }
+
+    /// The world octant origin (m) and the shape-to-world rotation of body i; for a sphere,
+    /// its centre and its body frame.
+    pub fn shape_placement(&self, i: usize) -> (Vec3, UnitQuaternion<f64>) {
+        match &self.shape[i] {
+            Shape::Sphere => (self.pos[i], self.orientation[i]),
+            Shape::PolyEllipsoid {
+                origin, to_body, ..
+            } => (
+                self.pos[i] + self.orientation[i] * origin,
+                self.orientation[i] * to_body,
+            ),
+        }
+    }
+
     /// Total kinetic energy, translational and rotational (J), summed in index order.
     pub fn kinetic_energy(&self) -> f64 {
         let mut e = 0.0;
@@ -76,9 +152,9 @@ impl Bodies {
         e
     }
 
-    /// Total solid volume (m³) of the spheres.
+    /// Total solid volume (m³) of the bodies.
     pub fn solid_volume(&self) -> f64 {
-        self.radius.iter().map(|&r| shape::sphere_volume(r)).sum()
+        (0..self.len()).map(|i| self.volume(i)).sum()
     }
 
     pub fn min_radius(&self) -> f64 {

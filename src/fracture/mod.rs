@@ -1,0 +1,516 @@
+//! Particle fracture of the granular model (poly-ellipsoid-fracture-shpb.txt, Section 3):
+//! the `fracture`, `weibull` and `cohesion` effects.
+//!
+//! After every step, each free grain (one not held by cohesive springs) is checked against
+//! Hoek–Brown on its average stress and against the tensile stress of its contacts
+//! ([`criteria`]); one that fails splits along a principal plane ([`break_plane`]) into two
+//! sub-poly-ellipsoids that carry on its motion ([`subdivision`]). With `cohesion`, springs on
+//! the break plane hold the halves with the forces that keep both accelerating as the parent
+//! did, and soften until they break ([`cohesion`]). With `weibull`, every grain's strengths
+//! are scaled by its own Weibull factor (Eq. 18). [`GrainFracture`] holds the per-grain state
+//! and the springs; the run calls it in this order within a step:
+//!
+//! ```text
+//! forces = pipeline(state)               # contacts (recorded), gravity
+//! fracture.add_spring_forces(forces)     # cohesion
+//! kick                                   # v(t+dt)
+//! breaking = fracture.check(...)         # free grains that fail at t+dt
+//! fracture.split(breaking)               # bodies change shape; new bodies appended
+//! forces = pipeline(state)               # the halves' contacts (history not advanced)
+//! fracture.bond(...)                     # springs with the initial forces of Eq. 40–43
+//! ```
+
+pub mod break_plane;
+pub mod cohesion;
+pub mod criteria;
+pub mod subdivision;
+
+use nalgebra::{Matrix3, UnitQuaternion};
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+use serde::{Deserialize, Serialize};
+
+use crate::effects::ContactRecords;
+use crate::probe::fragments;
+use crate::scene::{EffectKind, Scene};
+use crate::state::{Bodies, Forces, Vec3};
+use break_plane::Trigger;
+use cohesion::{Demand, Spring};
+use subdivision::Parent;
+
+/// The scene's fracture constants, resolved.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FractureParams {
+    pub mi: f64,
+    pub sigma_c: f64,
+    /// Contact tensile strength σ_fM (Pa).
+    pub sigma_f: f64,
+    /// Weibull modulus and reference radius, with `weibull`.
+    pub weibull: Option<(f64, f64)>,
+    pub critical_contacts: usize,
+    /// Cohesive energy G_c (J/m²) and springs per plane, with `cohesion`.
+    pub cohesion: Option<(f64, usize)>,
+    pub ideal_plane: bool,
+    pub plane_jitter: bool,
+    pub poisson: f64,
+}
+
+impl FractureParams {
+    pub fn from_scene(scene: &Scene) -> Self {
+        let f = &scene.fracture;
+        let m = &scene.material;
+        FractureParams {
+            mi: f.mi,
+            sigma_c: f.sigma_c,
+            sigma_f: f.reference_strength.expect("validated with fracture"),
+            weibull: scene.has_effect(EffectKind::Weibull).then(|| {
+                (
+                    f.weibull_modulus,
+                    f.reference_radius.expect("validated with weibull"),
+                )
+            }),
+            critical_contacts: f.critical_contacts,
+            cohesion: scene.has_effect(EffectKind::Cohesion).then(|| {
+                (
+                    cohesion::cohesive_energy(f.toughness, m.young, m.poisson),
+                    f.springs,
+                )
+            }),
+            ideal_plane: f.ideal_plane,
+            plane_jitter: f.plane_jitter,
+            poisson: m.poisson,
+        }
+    }
+}
+
+/// Which criterion broke a grain.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Criterion {
+    HoekBrown,
+    Contacts,
+}
+
+/// One split, for the summary and the tests.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SplitEvent {
+    pub step: u64,
+    pub time: f64,
+    /// The parent's index, which the + half keeps, and the − half's new index.
+    pub body: u32,
+    pub new_body: u32,
+    pub criterion: Criterion,
+    /// The largest principal compression (Hoek–Brown) or the largest contact tensile stress
+    /// (contacts) at the split (Pa).
+    pub stress: f64,
+    /// The springs made (0 without cohesion).
+    pub springs: u32,
+}
+
+/// A grain that fails: its index, what decides its break plane, the criterion and the stress
+/// that broke it (Pa: the largest principal compression, or the largest contact tensile
+/// stress).
+pub type Breaking = (usize, Trigger, Criterion, f64);
+
+/// A split made this step, waiting for the halves' forces to set its springs.
+#[derive(Debug, Clone, Copy)]
+pub struct PendingSplit {
+    pub a: usize,
+    pub b: usize,
+    /// The parent's centre of mass, acceleration, angular acceleration and velocity: the
+    /// rigid-body field the halves must follow.
+    pub centroid: Vec3,
+    pub accel: Vec3,
+    pub alpha: Vec3,
+    pub omega: Vec3,
+    /// The spring points (world) and the area each stands for (m²).
+    pub points: [Vec3; 16],
+    pub count: usize,
+    pub area: f64,
+}
+
+/// The per-grain fracture state and the cohesive springs.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct GrainFracture {
+    pub params: FractureParams,
+    /// Per body: the Weibull factor of its strengths (1 without `weibull`), the grain of the
+    /// sample it comes from, its splits so far and its intact springs.
+    pub strength: Vec<f64>,
+    pub origin: Vec<u32>,
+    pub generation: Vec<u8>,
+    pub bonds: Vec<u16>,
+    pub springs: Vec<Spring>,
+    /// Grains of the sample, and which of them have broken.
+    pub broken: Vec<bool>,
+    pub events: Vec<SplitEvent>,
+    /// Work the springs have done on the bodies (J; negative: energy taken out, spent in
+    /// fracture) and the change of kinetic plus elastic energy at the splits (J).
+    pub spring_work: f64,
+    pub split_energy: f64,
+    rng: ChaCha8Rng,
+}
+
+/// The random stream of fracture (Weibull variates, plane jitter).
+const STREAM_FRACTURE: u64 = 11;
+
+impl GrainFracture {
+    pub fn new(scene: &Scene, bodies: &Bodies) -> Self {
+        let params = FractureParams::from_scene(scene);
+        let n = bodies.len();
+        let mut f = GrainFracture {
+            params,
+            strength: Vec::with_capacity(n),
+            origin: (0..n as u32).collect(),
+            generation: vec![0; n],
+            bonds: vec![0; n],
+            springs: Vec::new(),
+            broken: vec![false; n],
+            events: Vec::new(),
+            spring_work: 0.0,
+            split_energy: 0.0,
+            rng: crate::sample::stream(scene.seed, STREAM_FRACTURE),
+        };
+        for i in 0..n {
+            let s = f.draw_strength(bodies, i);
+            f.strength.push(s);
+        }
+        f
+    }
+
+    /// A new Weibull factor for body i (1 without `weibull`): a fresh P for each grain and
+    /// each half, the size effect through its equivalent radius.
+    fn draw_strength(&mut self, bodies: &Bodies, i: usize) -> f64 {
+        let Some((w, x_m)) = self.params.weibull else {
+            return 1.0;
+        };
+        let p = loop {
+            let p: f64 = self.rng.random();
+            if p > 0.0 {
+                break p;
+            }
+        };
+        let x = (3.0 * bodies.volume(i) / (4.0 * std::f64::consts::PI)).cbrt();
+        criteria::weibull_factor(p, w, x, x_m)
+    }
+
+    /// Grains of the sample that have broken.
+    pub fn broken_particles(&self) -> usize {
+        self.broken.iter().filter(|&&b| b).count()
+    }
+
+    pub fn intact_springs(&self) -> usize {
+        self.springs.iter().filter(|s| !s.broken).count()
+    }
+
+    /// Pieces held together by intact springs: a label per body and the number of pieces.
+    pub fn pieces(&self, n: usize) -> (Vec<u32>, usize) {
+        fragments::components(
+            n,
+            self.springs
+                .iter()
+                .filter(|s| !s.broken)
+                .map(|s| (s.a as usize, s.b as usize)),
+        )
+    }
+
+    /// Fragments: the pieces that come from broken grains.
+    pub fn fragments(&self, n: usize) -> usize {
+        let (labels, count) = self.pieces(n);
+        let mut from_broken = vec![false; count];
+        for (i, &l) in labels.iter().enumerate() {
+            if self.broken[self.origin[i] as usize] {
+                from_broken[l as usize] = true;
+            }
+        }
+        from_broken.iter().filter(|&&b| b).count()
+    }
+
+    /// The cohesive spring forces at the current positions (Eq. 35), added to `forces`; springs
+    /// whose force has fallen to zero break.
+    pub fn add_spring_forces(&mut self, bodies: &Bodies, forces: &mut Forces) {
+        let mut work = 0.0;
+        for s in self.springs.iter_mut().filter(|s| !s.broken) {
+            let (a, b) = (s.a as usize, s.b as usize);
+            let (qa, qb) = (&bodies.orientation[a], &bodies.orientation[b]);
+            let (la, lb) = (qa * s.on_a, qb * s.on_b);
+            let gap = (bodies.pos[a] + la) - (bodies.pos[b] + lb);
+            s.opening = s.opening.max(gap.norm());
+            let f = s.force_at(s.opening);
+            let force = (qa * s.direction) * f;
+            // Work on the pair over the step: the force on A times A's end's motion relative
+            // to B's (trapezoid with the last force).
+            work += 0.5 * (force + s.last_force).dot(&(gap - s.last_gap));
+            s.last_gap = gap;
+            s.last_force = force;
+            if f <= 0.0 {
+                s.broken = true;
+                self.bonds[a] -= 1;
+                self.bonds[b] -= 1;
+                continue;
+            }
+            forces.force[a] += force;
+            forces.force[b] -= force;
+            forces.torque[a] += la.cross(&force);
+            forces.torque[b] -= lb.cross(&force);
+        }
+        self.spring_work += work;
+    }
+
+    /// The free grains that fail at the current state, in index order, with what broke them.
+    /// `records` are the contacts of the force evaluation that gave `forces`.
+    pub fn check(
+        &self,
+        bodies: &Bodies,
+        forces: &Forces,
+        records: &ContactRecords,
+    ) -> Vec<Breaking> {
+        let n = bodies.len();
+        let p = &self.params;
+        let mut moment = vec![Matrix3::<f64>::zeros(); n];
+        let mut critical: Vec<(u32, f64, Vec3)> = Vec::new();
+        let mut touch = |i: usize, force: Vec3, r: &crate::effects::ContactRecord| {
+            if self.bonds[i] != 0 {
+                return;
+            }
+            moment[i] += force * (r.point - bodies.pos[i]).transpose();
+            let st = criteria::contact_tensile_stress(r.normal_force, r.radius, p.poisson);
+            if st > p.sigma_f * self.strength[i] {
+                critical.push((i as u32, st, r.point));
+            }
+        };
+        for r in &records.list {
+            touch(r.i as usize, r.force, r);
+            if r.wall().is_none() {
+                touch(r.j as usize, -r.force, r);
+            }
+        }
+        critical.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
+        let mut out = Vec::new();
+        let mut c = 0;
+        for i in 0..n {
+            let start = c;
+            while c < critical.len() && critical[c].0 as usize == i {
+                c += 1;
+            }
+            if self.bonds[i] != 0 || moment[i] == Matrix3::zeros() {
+                continue;
+            }
+            let stress = self.average_stress(bodies, forces, i, &moment[i]);
+            let [s1, _, s3] = criteria::principal_compression_values(&stress);
+            if criteria::hoek_brown_fails(s1, s3, p.sigma_c * self.strength[i], p.mi) {
+                out.push((i, Trigger::HoekBrown { stress }, Criterion::HoekBrown, s1));
+                continue;
+            }
+            let crit = &critical[start..c];
+            if crit.len() >= p.critical_contacts {
+                let pts: Vec<Vec3> = crit.iter().take(3).map(|x| x.2).collect();
+                if let Some(normal) = break_plane::contacts_plane_normal(&pts) {
+                    out.push((i, Trigger::Contacts { normal }, Criterion::Contacts, crit[0].1));
+                }
+            }
+        }
+        out
+    }
+
+    /// The average stress of body i (Eq. 8–13) from its contact moment `Σ f ⊗ x` and its
+    /// motion: the angular acceleration from the torque of `forces`.
+    fn average_stress(&self, bodies: &Bodies, forces: &Forces, i: usize, moment: &Matrix3<f64>) -> Matrix3<f64> {
+        let rot = bodies.orientation[i].to_rotation_matrix().into_inner();
+        let mass_moment = criteria::mass_moment(&bodies.inertia[i], &rot);
+        let alpha = angular_acceleration(bodies, forces, i);
+        let v = bodies.volume(i);
+        criteria::average_stress_from_moment(v, moment, &mass_moment, &alpha, &bodies.omega[i])
+    }
+
+    /// Splits the breaking grains: each parent becomes its + half in place and its − half is
+    /// appended. Returns what [`GrainFracture::bond`] needs once the halves' forces are known.
+    pub fn split(
+        &mut self,
+        bodies: &mut Bodies,
+        forces: &Forces,
+        breaking: &[Breaking],
+        step: u64,
+        time: f64,
+    ) -> Vec<PendingSplit> {
+        let mut pending = Vec::new();
+        for &(i, trigger, criterion, stress) in breaking {
+            let Some((parent, axis)) = self.break_geometry(bodies, i, &trigger) else {
+                continue;
+            };
+            let [plus, minus] = subdivision::split(&parent, axis);
+            let accel = forces.force[i] * bodies.inv_mass[i];
+            let alpha = angular_acceleration(bodies, forces, i);
+            let mut halves = Bodies::default();
+            for h in [&plus, &minus] {
+                let k = halves.push_poly_ellipsoid(h.pe, h.mass, h.centroid, parent.frame);
+                halves.vel[k] = h.velocity;
+                halves.omega[k] = parent.omega;
+            }
+            bodies.copy_from(i, &halves, 0);
+            let b = bodies.len();
+            bodies.push_from(&halves, 1);
+            self.origin.push(self.origin[i]);
+            let generation = self.generation[i].saturating_add(1);
+            self.generation[i] = generation;
+            self.generation.push(generation);
+            self.bonds.push(0);
+            self.strength.push(0.0);
+            self.strength[i] = self.draw_strength(bodies, i);
+            self.strength[b] = self.draw_strength(bodies, b);
+            self.broken[self.origin[i] as usize] = true;
+            let mut split = PendingSplit {
+                a: i,
+                b,
+                centroid: parent.centroid,
+                accel,
+                alpha,
+                omega: parent.omega,
+                points: [Vec3::zeros(); 16],
+                count: 0,
+                area: 0.0,
+            };
+            if let Some((_, ns)) = self.params.cohesion {
+                let (local, area) = cohesion::spring_layout(&parent.semi, axis, ns);
+                for (k, p) in local.iter().enumerate() {
+                    split.points[k] = parent.origin + parent.frame * p;
+                }
+                split.count = local.len();
+                split.area = area;
+            }
+            self.events.push(SplitEvent {
+                step,
+                time,
+                body: i as u32,
+                new_body: b as u32,
+                criterion,
+                stress,
+                springs: 0,
+            });
+            pending.push(split);
+        }
+        pending
+    }
+
+    /// The parent of a split as the subdivision sees it and the axis to split along; `None`
+    /// when the grain's shape forbids breaking (Section 3.3.3). A sphere first turns its
+    /// principal directions to the ideal plane and by the random slight rotation, when the
+    /// scene asks.
+    fn break_geometry(
+        &mut self,
+        bodies: &mut Bodies,
+        i: usize,
+        trigger: &Trigger,
+    ) -> Option<(Parent, usize)> {
+        let semi = bodies.shape[i].semi_axes(bodies.radius[i]);
+        let sphere = bodies.shape[i].is_sphere();
+        let axis = if sphere && self.params.ideal_plane {
+            bodies.orientation[i] = break_plane::turn_to_ideal(&bodies.orientation[i], &trigger.ideal_normal());
+            0
+        } else {
+            let (_, q) = bodies.shape_placement(i);
+            let axes = [q * Vec3::x(), q * Vec3::y(), q * Vec3::z()];
+            break_plane::break_axis(&semi, &axes, trigger)?
+        };
+        if sphere && self.params.plane_jitter {
+            let angles = break_plane::random_jitter_angles(&mut self.rng);
+            bodies.orientation[i] = break_plane::jittered(&bodies.orientation[i], angles);
+        }
+        let (origin, frame) = bodies.shape_placement(i);
+        Some((
+            Parent {
+                semi,
+                origin,
+                frame,
+                mass: bodies.mass[i],
+                centroid: bodies.pos[i],
+                velocity: bodies.vel[i],
+                omega: bodies.omega[i],
+            },
+            axis,
+        ))
+    }
+
+    /// Makes the springs of this step's splits (with `cohesion`) from the halves' forces at
+    /// their new shapes (`forces`, evaluated after the split): their initial forces make each
+    /// half accelerate and turn as the parent did (Eq. 39–43), and they are added to `forces`.
+    pub fn bond(&mut self, bodies: &Bodies, forces: &mut Forces, pending: &[PendingSplit]) {
+        let Some((gc, _)) = self.params.cohesion else {
+            return;
+        };
+        for (split, event) in pending.iter().zip(self.events.iter_mut().rev().take(pending.len()).rev()) {
+            let (a, b) = (split.a, split.b);
+            let demand_of = |k: usize| {
+                let r = bodies.pos[k] - split.centroid;
+                let accel = split.accel
+                    + split.alpha.cross(&r)
+                    + split.omega.cross(&split.omega.cross(&r));
+                let force = accel * bodies.mass[k] - forces.force[k];
+                let iw = world_inertia(bodies, k);
+                let torque = iw * split.alpha + split.omega.cross(&(iw * split.omega))
+                    - forces.torque[k];
+                (force, torque)
+            };
+            let (force_a, torque_a) = demand_of(a);
+            let (force_b, torque_b) = demand_of(b);
+            let points: Vec<Vec3> = split.points[..split.count]
+                .iter()
+                .map(|p| p - bodies.pos[a])
+                .collect();
+            let demand = Demand {
+                force_a,
+                torque_a,
+                force_b,
+                torque_b,
+                b_offset: bodies.pos[b] - bodies.pos[a],
+            };
+            let f = cohesion::initial_forces(&points, &demand);
+            let (qa, qb) = (bodies.orientation[a], bodies.orientation[b]);
+            let mut made = 0;
+            let scale = demand.force_a.norm() + demand.force_b.norm();
+            for (p, fk) in points.iter().zip(&f) {
+                let f0 = fk.norm();
+                // A spring with no force would break at once: it is not made.
+                if f0 <= 1e-12 * scale || f0 == 0.0 {
+                    continue;
+                }
+                let world = p + bodies.pos[a];
+                self.springs.push(Spring {
+                    a: a as u32,
+                    b: b as u32,
+                    on_a: qa.inverse() * (world - bodies.pos[a]),
+                    on_b: qb.inverse() * (world - bodies.pos[b]),
+                    direction: qa.inverse() * (fk / f0),
+                    f0,
+                    k: f0 * f0 / (2.0 * gc * split.area),
+                    opening: 0.0,
+                    last_gap: Vec3::zeros(),
+                    last_force: *fk,
+                    broken: false,
+                });
+                forces.force[a] += fk;
+                forces.force[b] -= fk;
+                forces.torque[a] += p.cross(fk);
+                forces.torque[b] -= (world - bodies.pos[b]).cross(fk);
+                made += 1;
+            }
+            self.bonds[a] += made;
+            self.bonds[b] += made;
+            event.springs = made as u32;
+        }
+    }
+}
+
+/// Body k's inertia tensor in the world frame.
+fn world_inertia(bodies: &Bodies, k: usize) -> Matrix3<f64> {
+    let r = bodies.orientation[k].to_rotation_matrix().into_inner();
+    r * Matrix3::from_diagonal(&bodies.inertia[k]) * r.transpose()
+}
+
+/// Angular acceleration of body k under the torque in `forces`: `I⁻¹ (T − ω × I ω)`.
+fn angular_acceleration(bodies: &Bodies, forces: &Forces, k: usize) -> Vec3 {
+    let q: &UnitQuaternion<f64> = &bodies.orientation[k];
+    let w = q.inverse_transform_vector(&bodies.omega[k]);
+    let t = q.inverse_transform_vector(&forces.torque[k]);
+    let i = bodies.inertia[k];
+    let l = w.component_mul(&i);
+    q * (t - w.cross(&l)).component_div(&i)
+}
