@@ -1,6 +1,8 @@
 //! Particle shapes. Spheres are the fast special case: their radius lives in
 //! `Bodies::radius` and their contact needs no orientation.
 
+pub mod poly_ellipsoid;
+
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
