@@ -62,7 +62,9 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::shape::poly_ellipsoid::{PolyEllipsoid, sym2_eigen, tangent_basis, tangent_hessian};
+use crate::shape::poly_ellipsoid::{
+    PolyEllipsoid, Support, newton_step2, sym2_eigen, tangent_basis,
+};
 
 /// At most this many Newton steps per contact query.
 pub const MAX_ITERATIONS: u32 = 30;
@@ -146,29 +148,18 @@ pub fn support_world(p: &Placed, d: &Vector3<f64>) -> Vector3<f64> {
     }
 }
 
-/// One body's support evaluated at one direction `d` of the iteration frame.
+/// One body's support at one direction `d` of the iteration frame (for a sphere only `h`).
 ///
 /// Probes are taken at directions of any length `|d|` (the support point is 0-homogeneous, the
-/// support value 1-homogeneous) so that normalising `d` runs beside them; [`Probe::rescale`]
-/// then makes them those of the unit direction.
-#[derive(Clone, Copy)]
-struct Probe {
-    /// `h(d) - d·origin` (m).
-    h: f64,
-    inv_h: f64,
-    /// Support point relative to the origin, in the body's frame (m); unused for a sphere.
-    s: Vector3<f64>,
-    /// The octant's squared semi-axes `diag M` (m²); unused for a sphere.
-    m2: Vector3<f64>,
-}
+/// support value 1-homogeneous) so that normalising `d` runs beside them; [`rescale`] then
+/// makes them those of the unit direction.
+type Probe = Support;
 
-impl Probe {
-    /// From direction `d` to `d/|d|`, given `|d|` and `1/|d|`.
-    #[inline(always)]
-    fn rescale(&mut self, norm: f64, inv_norm: f64) {
-        self.h *= inv_norm;
-        self.inv_h *= norm;
-    }
+/// From a probe at direction `d` to one at `d/|d|`, given `|d|` and `1/|d|`.
+#[inline(always)]
+fn rescale(p: &mut Probe, norm: f64, inv_norm: f64) {
+    p.h *= inv_norm;
+    p.inv_h *= norm;
 }
 
 /// One body as the Newton iteration sees it. The iteration runs in the shape frame of one
@@ -208,7 +199,7 @@ impl Side for SphereSide {
         Probe {
             h: self.radius * norm,
             inv_h: 0.0,
-            s: Vector3::zeros(),
+            point: Vector3::zeros(),
             m2: Vector3::zeros(),
         }
     }
@@ -249,19 +240,19 @@ impl Side for PolySide<'_> {
     }
     #[inline(always)]
     fn probe(&self, dl: &Vector3<f64>, _: f64) -> Probe {
-        pe_probe(self.pe, dl)
+        self.pe.support_at(dl)
     }
     #[inline(always)]
     fn tangent(&self, p: &Probe, t1: &Vector3<f64>, t2: &Vector3<f64>) -> ([f64; 2], [f64; 3]) {
         let (t1, t2) = (self.to_body(t1), self.to_body(t2));
         (
-            [t1.dot(&p.s), t2.dot(&p.s)],
-            tangent_hessian(&p.m2, &p.s, p.inv_h, &t1, &t2),
+            [t1.dot(&p.point), t2.dot(&p.point)],
+            p.tangent_hessian(&t1, &t2),
         )
     }
     #[inline(always)]
     fn world_point(&self, p: &Probe, _: &Vector3<f64>) -> Vector3<f64> {
-        self.origin + self.to_world * p.s
+        self.origin + self.to_world * p.point
     }
     fn axes(&self) -> Matrix3<f64> {
         match &self.rot {
@@ -272,23 +263,6 @@ impl Side for PolySide<'_> {
     fn axis_width(&self) -> f64 {
         let s = &self.pe.semi;
         (s[0] + s[1]).min(s[2] + s[3]).min(s[4] + s[5])
-    }
-}
-
-/// The probe of a poly-ellipsoid at a direction `dl` of its own frame: `h = sqrt(dlᵀ M dl)`,
-/// `s = M dl / h` (as `PolyEllipsoid::support_with_value`, kept here with `1/h`).
-#[inline(always)]
-fn pe_probe(pe: &PolyEllipsoid, dl: &Vector3<f64>) -> Probe {
-    let ax = pe.octant_axes(dl);
-    let m2 = ax.component_mul(&ax);
-    let w = m2.component_mul(dl);
-    let h = w.dot(dl).sqrt();
-    let inv_h = 1.0 / h;
-    Probe {
-        h,
-        inv_h,
-        s: w * inv_h,
-        m2,
     }
 }
 
@@ -340,11 +314,7 @@ fn evaluate<A: Side, B: Side>(
 fn newton_step(k: &[f64; 3], g: &[f64; 2], tol: f64) -> [f64; 2] {
     let det = k[0] * k[2] - k[1] * k[1];
     let mut v = if k[0] > 0.0 && det > 0.0 {
-        let inv = 1.0 / det;
-        [
-            -(k[2] * g[0] - k[1] * g[1]) * inv,
-            -(k[0] * g[1] - k[1] * g[0]) * inv,
-        ]
+        newton_step2(k, g)
     } else {
         let (lambda, e) = sym2_eigen(*k);
         let floor = 1e-6 * lambda[0].abs().max(lambda[1].abs()).max(f64::MIN_POSITIVE);
@@ -400,7 +370,7 @@ pub fn contact_with_tolerance(
                 to_world: a.rot,
             };
             let ma = a.rot.tr_mul(&m);
-            let (qa, qb) = (pe_probe(pa, &ma), pe_probe(pb, &-b.rot.tr_mul(&m)));
+            let (qa, qb) = (pa.support_at(&ma), pb.support_at(&-b.rot.tr_mul(&m)));
             let raw = m.dot(&d0) + qa.h + qb.h;
             if below_zero(raw) {
                 return None;
@@ -425,7 +395,7 @@ pub fn contact_with_tolerance(
         }
         (ConvexShape::Sphere { radius }, ConvexShape::PolyEllipsoid(pb)) => {
             let mb = b.rot.tr_mul(&m);
-            let qb = pe_probe(pb, &-mb);
+            let qb = pb.support_at(&-mb);
             let norm = m.norm_squared().sqrt();
             let raw = m.dot(&d0) + radius * norm + qb.h;
             if below_zero(raw) {
@@ -457,7 +427,7 @@ pub fn contact_with_tolerance(
         }
         (ConvexShape::PolyEllipsoid(pa), ConvexShape::Sphere { radius }) => {
             let ma = a.rot.tr_mul(&m);
-            let qa = pe_probe(pa, &ma);
+            let qa = pa.support_at(&ma);
             let norm = m.norm_squared().sqrt();
             let raw = m.dot(&d0) + qa.h + radius * norm;
             if below_zero(raw) {
@@ -584,8 +554,8 @@ fn newton<A: Side, B: Side>(
 ) -> Option<(Eval, u32)> {
     let norm = m.norm_squared().sqrt();
     let inv = 1.0 / norm;
-    pa.rescale(norm, inv);
-    pb.rescale(norm, inv);
+    rescale(&mut pa, norm, inv);
+    rescale(&mut pb, norm, inv);
     let scale = pa.h + pb.h;
     let tol = tolerance * scale;
     // δ sums terms of size `scale` and `|rel|`: changes below this are round-off.
@@ -618,8 +588,8 @@ fn newton<A: Side, B: Side>(
             }
             if raw <= norm * (e.delta + round) {
                 let inv = 1.0 / norm;
-                qa.rescale(norm, inv);
-                qb.rescale(norm, inv);
+                rescale(&mut qa, norm, inv);
+                rescale(&mut qb, norm, inv);
                 e = evaluate(a, b, rel, step * inv, raw * inv, qa, qb);
                 accepted = true;
                 break;
@@ -692,7 +662,7 @@ pub fn wall_contact(
                 to_world: a.rot,
             };
             let m = -a.rot.tr_mul(wall_normal);
-            let p = pe_probe(pe, &m);
+            let p = pe.support_at(&m);
             if at_most_zero(base + p.h) {
                 return None;
             }
