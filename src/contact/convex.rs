@@ -189,6 +189,18 @@ struct SphereSide {
     frame: Matrix3<f64>,
 }
 
+impl SphereSide {
+    /// The sphere `p` (its centre is `p.origin`), the iteration frame mapped to the world by
+    /// `frame`.
+    fn new(radius: f64, p: &Placed, frame: Matrix3<f64>) -> Self {
+        SphereSide {
+            radius,
+            centre: p.origin,
+            frame,
+        }
+    }
+}
+
 impl Side for SphereSide {
     #[inline(always)]
     fn to_body(&self, d: &Vector3<f64>) -> Vector3<f64> {
@@ -228,6 +240,26 @@ struct PolySide<'a> {
     rot: Option<Matrix3<f64>>,
     origin: Vector3<f64>,
     to_world: Matrix3<f64>,
+}
+
+impl<'a> PolySide<'a> {
+    /// `pe` placed as `p`, the iteration running in its own shape frame.
+    fn own(pe: &'a PolyEllipsoid, p: &Placed) -> Self {
+        PolySide {
+            pe,
+            rot: None,
+            origin: p.origin,
+            to_world: p.rot,
+        }
+    }
+
+    /// `pe` placed as `p`, the iteration frame turned into its shape frame by `rot`.
+    fn turned(pe: &'a PolyEllipsoid, p: &Placed, rot: Matrix3<f64>) -> Self {
+        PolySide {
+            rot: Some(rot),
+            ..PolySide::own(pe, p)
+        }
+    }
 }
 
 impl Side for PolySide<'_> {
@@ -359,145 +391,83 @@ pub fn contact_with_tolerance(
 ) -> Option<ContactGeometry> {
     let m = initial_direction(a, b, guess);
     let d0 = a.origin - b.origin;
+    // δ's sign at the guess needs no normalised direction (h is 1-homogeneous).
+    let norm = m.norm_squared().sqrt();
+    let (qa, ma) = probe_placed(a, &m, norm);
+    let (qb, mb) = probe_placed(b, &-m, norm);
+    let raw = m.dot(&d0) + qa.h + qb.h;
+    if below_zero(raw) {
+        return None;
+    }
     // The iteration runs in the frame of a poly-ellipsoid (A's if it is one), so that one of
     // the two supports needs no rotation.
+    let start = |frame: Matrix3<f64>, m: Vector3<f64>| Start {
+        rel: frame.tr_mul(&d0),
+        frame,
+        m,
+        raw,
+        pa: qa,
+        pb: qb,
+    };
     match (a.shape, b.shape) {
         (ConvexShape::PolyEllipsoid(pa), ConvexShape::PolyEllipsoid(pb)) => {
-            let sa = PolySide {
-                pe: pa,
-                rot: None,
-                origin: a.origin,
-                to_world: a.rot,
-            };
-            let ma = a.rot.tr_mul(&m);
-            let (qa, qb) = (pa.support_at(&ma), pb.support_at(&-b.rot.tr_mul(&m)));
-            let raw = m.dot(&d0) + qa.h + qb.h;
-            if below_zero(raw) {
-                return None;
-            }
-            let sb = PolySide {
-                pe: pb,
-                rot: Some(b.rot.tr_mul(&a.rot)),
-                origin: b.origin,
-                to_world: b.rot,
-            };
-            solve(
-                &sa,
-                &sb,
-                &a.rot,
-                a.rot.tr_mul(&d0),
-                ma,
-                raw,
-                qa,
-                qb,
-                tolerance,
-            )
+            let sb = PolySide::turned(pb, b, b.rot.tr_mul(&a.rot));
+            solve(&PolySide::own(pa, a), &sb, start(a.rot, ma), tolerance)
         }
         (ConvexShape::Sphere { radius }, ConvexShape::PolyEllipsoid(pb)) => {
-            let mb = b.rot.tr_mul(&m);
-            let qb = pb.support_at(&-mb);
-            let norm = m.norm_squared().sqrt();
-            let raw = m.dot(&d0) + radius * norm + qb.h;
-            if below_zero(raw) {
-                return None;
-            }
-            let sa = SphereSide {
-                radius,
-                centre: a.origin,
-                frame: b.rot,
-            };
-            let sb = PolySide {
-                pe: pb,
-                rot: None,
-                origin: b.origin,
-                to_world: b.rot,
-            };
-            let qa = sa.probe(&mb, norm);
-            solve(
-                &sa,
-                &sb,
-                &b.rot,
-                b.rot.tr_mul(&d0),
-                mb,
-                raw,
-                qa,
-                qb,
-                tolerance,
-            )
+            let sa = SphereSide::new(radius, a, b.rot);
+            solve(&sa, &PolySide::own(pb, b), start(b.rot, -mb), tolerance)
         }
         (ConvexShape::PolyEllipsoid(pa), ConvexShape::Sphere { radius }) => {
-            let ma = a.rot.tr_mul(&m);
-            let qa = pa.support_at(&ma);
-            let norm = m.norm_squared().sqrt();
-            let raw = m.dot(&d0) + qa.h + radius * norm;
-            if below_zero(raw) {
-                return None;
-            }
-            let sa = PolySide {
-                pe: pa,
-                rot: None,
-                origin: a.origin,
-                to_world: a.rot,
-            };
-            let sb = SphereSide {
-                radius,
-                centre: b.origin,
-                frame: a.rot,
-            };
-            let qb = sb.probe(&-ma, norm);
-            solve(
-                &sa,
-                &sb,
-                &a.rot,
-                a.rot.tr_mul(&d0),
-                ma,
-                raw,
-                qa,
-                qb,
-                tolerance,
-            )
+            let sb = SphereSide::new(radius, b, a.rot);
+            solve(&PolySide::own(pa, a), &sb, start(a.rot, ma), tolerance)
         }
         (ConvexShape::Sphere { radius: ra }, ConvexShape::Sphere { radius: rb }) => {
-            let norm = m.norm_squared().sqrt();
-            let raw = m.dot(&d0) + (ra + rb) * norm;
-            if below_zero(raw) {
-                return None;
-            }
             let i = Matrix3::identity();
-            let sa = SphereSide {
-                radius: ra,
-                centre: a.origin,
-                frame: i,
-            };
-            let sb = SphereSide {
-                radius: rb,
-                centre: b.origin,
-                frame: i,
-            };
-            let (qa, qb) = (sa.probe(&m, norm), sb.probe(&-m, norm));
-            solve(&sa, &sb, &i, d0, m, raw, qa, qb, tolerance)
+            let (sa, sb) = (SphereSide::new(ra, a, i), SphereSide::new(rb, b, i));
+            solve(&sa, &sb, start(i, m), tolerance)
         }
     }
 }
 
-/// Minimises δ from the direction `m` (any length, iteration frame, from A towards B) where
-/// `raw = |m| δ(m/|m|) ≥ 0` and the probes are taken; `frame` maps the iteration frame to the
-/// world, `rel` is `o_A - o_B` in it. An overlap deeper than [`DEEP_OVERLAP`] of the thinner
-/// body's smallest axis width is solved again from the ± shape axes of both bodies, keeping
-/// the smallest minimum (deep overlaps can have several local minima).
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-fn solve<A: Side, B: Side>(
-    a: &A,
-    b: &B,
-    frame: &Matrix3<f64>,
+/// Where the iteration starts: the iteration frame (`frame` maps it to the world), `o_A - o_B`
+/// in it, the direction `m` from A towards B (any length) with `raw = |m| δ(m/|m|) >= 0`, and
+/// the two probes taken at `m` and `-m`.
+struct Start {
+    frame: Matrix3<f64>,
     rel: Vector3<f64>,
     m: Vector3<f64>,
     raw: f64,
     pa: Probe,
     pb: Probe,
-    tolerance: f64,
-) -> Option<ContactGeometry> {
+}
+
+/// The probe of a placed body at the world direction `d` of length `norm`, and `d` in its
+/// shape frame.
+#[inline(always)]
+fn probe_placed(p: &Placed, d: &Vector3<f64>, norm: f64) -> (Probe, Vector3<f64>) {
+    match p.shape {
+        ConvexShape::Sphere { radius } => (SphereSide::new(radius, p, p.rot).probe(d, norm), *d),
+        ConvexShape::PolyEllipsoid(pe) => {
+            let dl = p.rot.tr_mul(d);
+            (pe.support_at(&dl), dl)
+        }
+    }
+}
+
+/// Minimises δ from `start`. An overlap deeper than [`DEEP_OVERLAP`] of the thinner body's
+/// smallest axis width is solved again from the ± shape axes of both bodies, keeping the
+/// smallest minimum (deep overlaps can have several local minima).
+#[inline(always)]
+fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option<ContactGeometry> {
+    let Start {
+        frame,
+        rel,
+        m,
+        raw,
+        pa,
+        pb,
+    } = start;
     let (mut best, mut iterations) = newton(a, b, &rel, m, raw, pa, pb, tolerance)?;
     if best.delta > DEEP_OVERLAP * a.axis_width().min(b.axis_width()) {
         for axes in [a.axes(), b.axes()] {
@@ -655,12 +625,7 @@ pub fn wall_contact(
             [radius, 0.0, radius],
         ),
         ConvexShape::PolyEllipsoid(pe) => {
-            let side = PolySide {
-                pe,
-                rot: None,
-                origin: a.origin,
-                to_world: a.rot,
-            };
+            let side = PolySide::own(pe, a);
             let m = -a.rot.tr_mul(wall_normal);
             let p = pe.support_at(&m);
             if at_most_zero(base + p.h) {

@@ -409,6 +409,16 @@ mod tests {
 
     const SPLIT: [f64; 6] = [0.9, 0.1, 0.95, 0.95, 0.95, 0.95];
 
+    /// A random vector in the cube [-0.5, 0.5]³.
+    fn random_vector(rng: &mut ChaCha8Rng) -> Vector3<f64> {
+        Vector3::new(
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+        )
+        .add_scalar(-0.5)
+    }
+
     fn shapes() -> Vec<PolyEllipsoid> {
         vec![
             PolyEllipsoid::new([1.0, 1.5, 0.8, 1.2, 1.9, 0.7]).unwrap(),
@@ -643,11 +653,7 @@ mod tests {
             let spacing = rmax * 3.0 / n as f64;
             let tol = 0.125 * spacing * spacing / (rmin * rmin / rmax);
             for _ in 0..200 {
-                let d = Vector3::new(
-                    rng.random::<f64>() - 0.5,
-                    rng.random::<f64>() - 0.5,
-                    rng.random::<f64>() - 0.5,
-                ) * 3.0;
+                let d = random_vector(&mut rng) * 3.0;
                 let s = pe.support(&d);
                 let h = pe.support_value(&d);
                 assert!((s.dot(&d) - h).abs() < 1e-12 * h);
@@ -675,12 +681,7 @@ mod tests {
         let sp = PolyEllipsoid::sphere(r);
         let mut rng = ChaCha8Rng::seed_from_u64(5);
         for _ in 0..50 {
-            let n = Vector3::new(
-                rng.random::<f64>() - 0.5,
-                rng.random::<f64>() - 0.5,
-                rng.random::<f64>() - 0.5,
-            )
-            .normalize();
+            let n = random_vector(&mut rng).normalize();
             let (radii, dirs) = sp.principal_curvatures(&n);
             assert!((radii[0] - r).abs() < 1e-14 && (radii[1] - r).abs() < 1e-14);
             assert!(dirs[0].dot(&n).abs() < 1e-14 && dirs[1].dot(&n).abs() < 1e-14);
@@ -723,12 +724,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(9);
         for pe in shapes() {
             for _ in 0..50 {
-                let n = Vector3::new(
-                    rng.random::<f64>() - 0.5,
-                    rng.random::<f64>() - 0.5,
-                    rng.random::<f64>() - 0.5,
-                )
-                .normalize();
+                let n = random_vector(&mut rng).normalize();
                 let (radii, dirs) = pe.principal_curvatures(&n);
                 let eps = 1e-6;
                 for k in 0..2 {
@@ -753,11 +749,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
         for pe in shapes() {
             for _ in 0..200 {
-                let d = Vector3::new(
-                    rng.random::<f64>() - 0.5,
-                    rng.random::<f64>() - 0.5,
-                    rng.random::<f64>() - 0.5,
-                );
+                let d = random_vector(&mut rng);
                 let p = pe.surface_point(&d);
                 assert!((pe.implicit(&p) - 1.0).abs() < 1e-13);
                 assert!(p.normalize().dot(&d.normalize()) > 1.0 - 1e-14);
@@ -774,11 +766,7 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(13);
         let mut dirs = vec![Vector3::z(), -Vector3::z(), Vector3::x()];
         for _ in 0..1000 {
-            let v = Vector3::new(
-                rng.random::<f64>() - 0.5,
-                rng.random::<f64>() - 0.5,
-                rng.random::<f64>() - 0.5,
-            );
+            let v = random_vector(&mut rng);
             dirs.push(v.normalize());
         }
         for n in dirs {
