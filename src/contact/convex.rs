@@ -392,19 +392,20 @@ pub fn contact_with_tolerance(
     let m = initial_direction(a, b, guess);
     let d0 = a.origin - b.origin;
     // δ's sign at the guess needs no normalised direction (h is 1-homogeneous).
-    let norm = m.norm_squared().sqrt();
-    let (qa, ma) = probe_placed(a, &m, norm);
-    let (qb, mb) = probe_placed(b, &-m, norm);
+    let (qa, ma) = probe_placed(a, &m);
+    let (qb, mb) = probe_placed(b, &-m);
     let raw = m.dot(&d0) + qa.h + qb.h;
     if below_zero(raw) {
         return None;
     }
+    let norm = m.norm_squared().sqrt();
     // The iteration runs in the frame of a poly-ellipsoid (A's if it is one), so that one of
     // the two supports needs no rotation.
     let start = |frame: Matrix3<f64>, m: Vector3<f64>| Start {
         rel: frame.tr_mul(&d0),
         frame,
         m,
+        norm,
         raw,
         pa: qa,
         pb: qb,
@@ -431,23 +432,27 @@ pub fn contact_with_tolerance(
 }
 
 /// Where the iteration starts: the iteration frame (`frame` maps it to the world), `o_A - o_B`
-/// in it, the direction `m` from A towards B (any length) with `raw = |m| δ(m/|m|) >= 0`, and
-/// the two probes taken at `m` and `-m`.
+/// in it, the direction `m` from A towards B of length `norm` with `raw = |m| δ(m/|m|) >= 0`,
+/// and the two probes taken at `m` and `-m`.
 struct Start {
     frame: Matrix3<f64>,
     rel: Vector3<f64>,
     m: Vector3<f64>,
+    norm: f64,
     raw: f64,
     pa: Probe,
     pb: Probe,
 }
 
-/// The probe of a placed body at the world direction `d` of length `norm`, and `d` in its
-/// shape frame.
+/// The probe of a placed body at the world direction `d` (any length), and `d` in its shape
+/// frame.
 #[inline(always)]
-fn probe_placed(p: &Placed, d: &Vector3<f64>, norm: f64) -> (Probe, Vector3<f64>) {
+fn probe_placed(p: &Placed, d: &Vector3<f64>) -> (Probe, Vector3<f64>) {
     match p.shape {
-        ConvexShape::Sphere { radius } => (SphereSide::new(radius, p, p.rot).probe(d, norm), *d),
+        ConvexShape::Sphere { radius } => {
+            let norm = d.norm_squared().sqrt();
+            (SphereSide::new(radius, p, p.rot).probe(d, norm), *d)
+        }
         ConvexShape::PolyEllipsoid(pe) => {
             let dl = p.rot.tr_mul(d);
             (pe.support_at(&dl), dl)
@@ -458,17 +463,19 @@ fn probe_placed(p: &Placed, d: &Vector3<f64>, norm: f64) -> (Probe, Vector3<f64>
 /// Minimises δ from `start`. An overlap deeper than [`DEEP_OVERLAP`] of the thinner body's
 /// smallest axis width is solved again from the ± shape axes of both bodies, keeping the
 /// smallest minimum (deep overlaps can have several local minima).
-#[inline(always)]
+// Out of line: the early-out path of `contact` stays small.
+#[inline(never)]
 fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option<ContactGeometry> {
     let Start {
         frame,
         rel,
         m,
+        norm,
         raw,
         pa,
         pb,
     } = start;
-    let (mut best, mut iterations) = newton(a, b, &rel, m, raw, pa, pb, tolerance)?;
+    let (mut best, mut iterations) = newton(a, b, &rel, m, norm, raw, pa, pb, tolerance)?;
     if best.delta > DEEP_OVERLAP * a.axis_width().min(b.axis_width()) {
         for axes in [a.axes(), b.axes()] {
             for k in 0..6 {
@@ -478,7 +485,7 @@ fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option
                 if below_zero(raw) {
                     return None;
                 }
-                let (e, steps) = newton(a, b, &rel, d, raw, qa, qb, tolerance)?;
+                let (e, steps) = newton(a, b, &rel, d, 1.0, raw, qa, qb, tolerance)?;
                 iterations += steps;
                 if e.delta < best.delta {
                     best = e;
@@ -508,7 +515,8 @@ fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option
     })
 }
 
-/// Newton's method on the unit sphere for `min δ(m)` from `m` (see [`solve`]): the converged
+/// Newton's method on the unit sphere for `min δ(m)` from `m` of length `norm` (see
+/// [`Start`]): the converged
 /// evaluation and the steps taken, or `None` when an iterate shows δ < 0 (separated).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
@@ -517,12 +525,12 @@ fn newton<A: Side, B: Side>(
     b: &B,
     rel: &Vector3<f64>,
     m: Vector3<f64>,
+    norm: f64,
     raw: f64,
     mut pa: Probe,
     mut pb: Probe,
     tolerance: f64,
 ) -> Option<(Eval, u32)> {
-    let norm = m.norm_squared().sqrt();
     let inv = 1.0 / norm;
     rescale(&mut pa, norm, inv);
     rescale(&mut pb, norm, inv);
@@ -681,6 +689,8 @@ mod tests {
             // Zero guess: the centre-to-centre fallback gives the same contact.
             let z = contact(&a, &b, &Vector3::zeros()).unwrap();
             assert!((z.depth - c.depth).abs() < 1e-15 && (z.normal - c.normal).norm() < 1e-15);
+            let nan = contact(&a, &b, &Vector3::new(f64::NAN, 0.0, 1.0)).unwrap();
+            assert_eq!(nan, z);
             // A poor guess converges too.
             let off = contact(&a, &b, &(dir + Vector3::new(0.3, 0.2, -0.1))).unwrap();
             assert!((off.depth - overlap).abs() < 1e-12 * (ra + rb));
