@@ -46,7 +46,8 @@
 //! the local minimum of δ nearest the guess, which is the global one unless the overlap is
 //! deep compared with the bodies: an overlap above [`DEEP_OVERLAP`] (a quarter) of the
 //! thinner body's smallest axis width is therefore solved again from the ± shape axes of
-//! both bodies and the smallest minimum kept. docs/poly_ellipsoid.md has the measured
+//! both bodies and the smallest minimum kept. (This also catches a guess on the wrong side,
+//! which can end in a local minimum on the far side of A - B, as deep as the bodies are wide.) docs/poly_ellipsoid.md has the measured
 //! accuracy against brute force.
 //!
 //! The iteration runs in the shape frame of one poly-ellipsoid, so that its support needs
@@ -463,8 +464,7 @@ fn probe_placed(p: &Placed, d: &Vector3<f64>) -> (Probe, Vector3<f64>) {
 /// Minimises δ from `start`. An overlap deeper than [`DEEP_OVERLAP`] of the thinner body's
 /// smallest axis width is solved again from the ± shape axes of both bodies, keeping the
 /// smallest minimum (deep overlaps can have several local minima).
-// Out of line: the early-out path of `contact` stays small.
-#[inline(never)]
+#[inline(always)]
 fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option<ContactGeometry> {
     let Start {
         frame,
