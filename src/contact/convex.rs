@@ -90,7 +90,7 @@ pub struct Placed<'a> {
     pub shape: ConvexShape<'a>,
     /// World position of the octant origin (m); a sphere's centre.
     pub origin: Vector3<f64>,
-    /// Rotation from the shape frame to the world frame (unused for a sphere).
+    /// Rotation from the shape frame to the world frame (orthonormal; unused for a sphere).
     pub rot: Matrix3<f64>,
 }
 
@@ -136,7 +136,8 @@ pub struct ContactGeometry {
     /// Hertz equivalent radius (m): `1/sqrt(det(K_A + K_B))`, K the curvature tensors on the
     /// tangent plane.
     pub r_eff: f64,
-    /// Newton steps taken (0 for a wall, or when the guess was already converged).
+    /// Newton steps taken, summed over the restarts of a deep overlap (0 for a wall, or when
+    /// the guess was already converged).
     pub iterations: u32,
 }
 
@@ -209,12 +210,7 @@ impl Side for SphereSide {
     }
     #[inline(always)]
     fn probe(&self, _: &Vector3<f64>, norm: f64) -> Probe {
-        Probe {
-            h: self.radius * norm,
-            inv_h: 0.0,
-            point: Vector3::zeros(),
-            m2: Vector3::zeros(),
-        }
+        sphere_probe(self.radius, norm)
     }
     #[inline(always)]
     fn tangent(&self, _: &Probe, _: &Vector3<f64>, _: &Vector3<f64>) -> ([f64; 2], [f64; 3]) {
@@ -231,6 +227,17 @@ impl Side for SphereSide {
     /// has one), so only a poly-ellipsoid's width calls for the deep-overlap restarts.
     fn axis_width(&self) -> f64 {
         f64::INFINITY
+    }
+}
+
+/// A sphere's probe at a direction of length `norm`: `h = r |d|`.
+#[inline(always)]
+fn sphere_probe(radius: f64, norm: f64) -> Probe {
+    Probe {
+        h: radius * norm,
+        inv_h: 0.0,
+        point: Vector3::zeros(),
+        m2: Vector3::zeros(),
     }
 }
 
@@ -450,10 +457,7 @@ struct Start {
 #[inline(always)]
 fn probe_placed(p: &Placed, d: &Vector3<f64>) -> (Probe, Vector3<f64>) {
     match p.shape {
-        ConvexShape::Sphere { radius } => {
-            let norm = d.norm_squared().sqrt();
-            (SphereSide::new(radius, p, p.rot).probe(d, norm), *d)
-        }
+        ConvexShape::Sphere { radius } => (sphere_probe(radius, d.norm_squared().sqrt()), *d),
         ConvexShape::PolyEllipsoid(pe) => {
             let dl = p.rot.tr_mul(d);
             (pe.support_at(&dl), dl)
