@@ -32,14 +32,26 @@
 //!   absolute values, and a zero gradient there is left along the negative-curvature
 //!   direction.
 //!
-//! It stops when `|g| <= 1e-12 (h_A + h_B)` (the sum of the local support values, a size of
-//! the pair) or after [`MAX_ITERATIONS`] steps. The support function is C1 with a Hessian that
-//! jumps across the octant planes, so this is a semismooth Newton method: quadratic inside an
-//! octant, superlinear across a plane. Early-outs: if `δ(guess) < 0` the pair is separated and
-//! nothing is iterated (the cheap rejection most neighbour pairs take); if any iterate has
-//! `δ < 0`, likewise. The iteration finds the local minimum of δ nearest the guess, which is
-//! the global one unless the overlap is deep compared with the local radii of curvature (see
-//! docs/poly_ellipsoid.md for the measured accuracy against brute force).
+//! It stops when `|g| <= 1e-10 (h_A + h_B)` ([`GRADIENT_TOLERANCE`]; `h_A + h_B` is the sum
+//! of the local support values, a size of the pair) with K positive definite, or after
+//! [`MAX_ITERATIONS`] steps. At that tolerance the normal is within about 1e-10 rad and the
+//! depth is exact to round-off (its error is quadratic in g); [`contact_with_tolerance`]
+//! takes another. The support function is C1 with a Hessian that jumps across the octant
+//! planes, so this is a semismooth Newton method: quadratic inside an octant, superlinear
+//! across a plane.
+//!
+//! Early-outs: if `δ(guess) < 0` the pair is separated and nothing is iterated (the cheap
+//! rejection most neighbour pairs take; δ's sign needs no normalised direction, so the
+//! normalisation runs beside it); if any iterate has `δ < 0`, likewise. The iteration finds
+//! the local minimum of δ nearest the guess, which is the global one unless the overlap is
+//! deep compared with the bodies: an overlap above [`DEEP_OVERLAP`] (a quarter) of the
+//! thinner body's smallest axis width is therefore solved again from the ± shape axes of
+//! both bodies and the smallest minimum kept. (This also catches a guess on the wrong side,
+//! which can end in a local minimum on the far side of A - B, as deep as the bodies are wide.) docs/poly_ellipsoid.md has the measured
+//! accuracy against brute force.
+//!
+//! The iteration runs in the shape frame of one poly-ellipsoid, so that its support needs
+//! no rotation; the other body's directions are turned by the relative rotation.
 //!
 //! The Hertz equivalent radius is `r_eff = 1/sqrt(det(K_A + K_B))` with `K_A` the inverse of
 //! A's tangent Hessian at `n` (its curvature tensor) and `K_B` likewise at `-n`; for two
@@ -51,13 +63,19 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::shape::poly_ellipsoid::{PolyEllipsoid, sym2_eigen, tangent_basis, tangent_hessian};
+use crate::shape::poly_ellipsoid::{
+    PolyEllipsoid, Support, newton_step2, sym2_eigen, tangent_basis,
+};
 
 /// At most this many Newton steps per contact query.
 pub const MAX_ITERATIONS: u32 = 30;
 
+/// Overlaps deeper than this fraction of the thinner body's smallest axis width are solved
+/// again from the shape axes of both bodies (see [`contact`]).
+pub const DEEP_OVERLAP: f64 = 0.25;
+
 /// Converged when the tangential gradient is below this fraction of `h_A + h_B`.
-pub const GRADIENT_TOLERANCE: f64 = 1e-12;
+pub const GRADIENT_TOLERANCE: f64 = 1e-10;
 
 /// A convex shape in its own frame.
 #[derive(Debug, Clone, Copy)]
@@ -72,7 +90,7 @@ pub struct Placed<'a> {
     pub shape: ConvexShape<'a>,
     /// World position of the octant origin (m); a sphere's centre.
     pub origin: Vector3<f64>,
-    /// Rotation from the shape frame to the world frame (unused for a sphere).
+    /// Rotation from the shape frame to the world frame (orthonormal; unused for a sphere).
     pub rot: Matrix3<f64>,
 }
 
@@ -118,7 +136,8 @@ pub struct ContactGeometry {
     /// Hertz equivalent radius (m): `1/sqrt(det(K_A + K_B))`, K the curvature tensors on the
     /// tangent plane.
     pub r_eff: f64,
-    /// Newton steps taken (0 for a wall, or when the guess was already converged).
+    /// Newton steps taken, summed over the restarts of a deep overlap (0 for a wall, or when
+    /// the guess was already converged).
     pub iterations: u32,
 }
 
@@ -131,16 +150,18 @@ pub fn support_world(p: &Placed, d: &Vector3<f64>) -> Vector3<f64> {
     }
 }
 
-/// One body's support evaluated at one direction of the iteration frame.
-#[derive(Clone, Copy)]
-struct Probe {
-    /// `h(d) - d·origin` (m).
-    h: f64,
-    inv_h: f64,
-    /// Support point relative to the origin, in the body's frame (m).
-    s: Vector3<f64>,
-    /// The octant's squared semi-axes `diag M` (m²); unused for a sphere.
-    m2: Vector3<f64>,
+/// One body's support at one direction `d` of the iteration frame (for a sphere only `h`).
+///
+/// Probes are taken at directions of any length `|d|` (the support point is 0-homogeneous, the
+/// support value 1-homogeneous) so that normalising `d` runs beside them; [`rescale`] then
+/// makes them those of the unit direction.
+type Probe = Support;
+
+/// From a probe at direction `d` to one at `d/|d|`, given `|d|` and `1/|d|`.
+#[inline(always)]
+fn rescale(p: &mut Probe, norm: f64, inv_norm: f64) {
+    p.h *= inv_norm;
+    p.inv_h *= norm;
 }
 
 /// One body as the Newton iteration sees it. The iteration runs in the shape frame of one
@@ -149,19 +170,37 @@ struct Probe {
 trait Side {
     /// Direction `d` of the iteration frame in the body's frame.
     fn to_body(&self, d: &Vector3<f64>) -> Vector3<f64>;
-    /// Support value and point at the body-frame unit direction `dl`.
-    fn probe(&self, dl: &Vector3<f64>) -> Probe;
-    /// `t_i·s` (iteration frame) and the support Hessian on the tangent plane, `[r11, r12, r22]`.
+    /// Support value and point at the body-frame direction `dl` of length `norm`.
+    fn probe(&self, dl: &Vector3<f64>, norm: f64) -> Probe;
+    /// `t_i·s` (iteration frame) and the support Hessian on the tangent plane, `[r11, r12, r22]`,
+    /// at a probe of a unit direction.
     fn tangent(&self, p: &Probe, t1: &Vector3<f64>, t2: &Vector3<f64>) -> ([f64; 2], [f64; 3]);
-    /// World position of the support point.
-    fn world_point(&self, p: &Probe) -> Vector3<f64>;
+    /// World position of the support point of the probe at the unit iteration-frame direction `d`.
+    fn world_point(&self, p: &Probe, d: &Vector3<f64>) -> Vector3<f64>;
+    /// The body's shape axes in the iteration frame (columns).
+    fn axes(&self) -> Matrix3<f64>;
+    /// The smallest width along the shape axes (m), the scale of a deep overlap.
+    fn axis_width(&self) -> f64;
 }
 
-/// A sphere; its probe's `s` is in the iteration frame.
+/// A sphere: `h(d) = r |d|`, support Hessian `r (1 - d dᵀ)` at a unit `d`.
 struct SphereSide {
     radius: f64,
     centre: Vector3<f64>,
+    /// Iteration frame to world.
     frame: Matrix3<f64>,
+}
+
+impl SphereSide {
+    /// The sphere `p` (its centre is `p.origin`), the iteration frame mapped to the world by
+    /// `frame`.
+    fn new(radius: f64, p: &Placed, frame: Matrix3<f64>) -> Self {
+        SphereSide {
+            radius,
+            centre: p.origin,
+            frame,
+        }
+    }
 }
 
 impl Side for SphereSide {
@@ -170,21 +209,35 @@ impl Side for SphereSide {
         *d
     }
     #[inline(always)]
-    fn probe(&self, dl: &Vector3<f64>) -> Probe {
-        Probe {
-            h: self.radius,
-            inv_h: 0.0,
-            s: dl * self.radius,
-            m2: Vector3::zeros(),
-        }
+    fn probe(&self, _: &Vector3<f64>, norm: f64) -> Probe {
+        sphere_probe(self.radius, norm)
     }
     #[inline(always)]
     fn tangent(&self, _: &Probe, _: &Vector3<f64>, _: &Vector3<f64>) -> ([f64; 2], [f64; 3]) {
         ([0.0, 0.0], [self.radius, 0.0, self.radius])
     }
     #[inline(always)]
-    fn world_point(&self, p: &Probe) -> Vector3<f64> {
-        self.centre + self.frame * p.s
+    fn world_point(&self, _: &Probe, d: &Vector3<f64>) -> Vector3<f64> {
+        self.centre + self.frame * (d * self.radius)
+    }
+    fn axes(&self) -> Matrix3<f64> {
+        Matrix3::identity()
+    }
+    /// Infinite: a sphere does not make local minima of δ (against a sphere δ(n) = n·d + r_A + r_B
+    /// has one), so only a poly-ellipsoid's width calls for the deep-overlap restarts.
+    fn axis_width(&self) -> f64 {
+        f64::INFINITY
+    }
+}
+
+/// A sphere's probe at a direction of length `norm`: `h = r |d|`.
+#[inline(always)]
+fn sphere_probe(radius: f64, norm: f64) -> Probe {
+    Probe {
+        h: radius * norm,
+        inv_h: 0.0,
+        point: Vector3::zeros(),
+        m2: Vector3::zeros(),
     }
 }
 
@@ -197,6 +250,26 @@ struct PolySide<'a> {
     to_world: Matrix3<f64>,
 }
 
+impl<'a> PolySide<'a> {
+    /// `pe` placed as `p`, the iteration running in its own shape frame.
+    fn own(pe: &'a PolyEllipsoid, p: &Placed) -> Self {
+        PolySide {
+            pe,
+            rot: None,
+            origin: p.origin,
+            to_world: p.rot,
+        }
+    }
+
+    /// `pe` placed as `p`, the iteration frame turned into its shape frame by `rot`.
+    fn turned(pe: &'a PolyEllipsoid, p: &Placed, rot: Matrix3<f64>) -> Self {
+        PolySide {
+            rot: Some(rot),
+            ..PolySide::own(pe, p)
+        }
+    }
+}
+
 impl Side for PolySide<'_> {
     #[inline(always)]
     fn to_body(&self, d: &Vector3<f64>) -> Vector3<f64> {
@@ -206,30 +279,30 @@ impl Side for PolySide<'_> {
         }
     }
     #[inline(always)]
-    fn probe(&self, dl: &Vector3<f64>) -> Probe {
-        let ax = self.pe.octant_axes(dl);
-        let m2 = ax.component_mul(&ax);
-        let w = m2.component_mul(dl);
-        let h = w.dot(dl).sqrt();
-        let inv_h = 1.0 / h;
-        Probe {
-            h,
-            inv_h,
-            s: w * inv_h,
-            m2,
-        }
+    fn probe(&self, dl: &Vector3<f64>, _: f64) -> Probe {
+        self.pe.support_at(dl)
     }
     #[inline(always)]
     fn tangent(&self, p: &Probe, t1: &Vector3<f64>, t2: &Vector3<f64>) -> ([f64; 2], [f64; 3]) {
         let (t1, t2) = (self.to_body(t1), self.to_body(t2));
         (
-            [t1.dot(&p.s), t2.dot(&p.s)],
-            tangent_hessian(&p.m2, &p.s, p.inv_h, &t1, &t2),
+            [t1.dot(&p.point), t2.dot(&p.point)],
+            p.tangent_hessian(&t1, &t2),
         )
     }
     #[inline(always)]
-    fn world_point(&self, p: &Probe) -> Vector3<f64> {
-        self.origin + self.to_world * p.s
+    fn world_point(&self, p: &Probe, _: &Vector3<f64>) -> Vector3<f64> {
+        self.origin + self.to_world * p.point
+    }
+    fn axes(&self) -> Matrix3<f64> {
+        match &self.rot {
+            Some(r) => r.transpose(),
+            None => Matrix3::identity(),
+        }
+    }
+    fn axis_width(&self) -> f64 {
+        let s = &self.pe.semi;
+        (s[0] + s[1]).min(s[2] + s[3]).min(s[4] + s[5])
     }
 }
 
@@ -247,7 +320,7 @@ struct Eval {
     hb: [f64; 3],
 }
 
-/// Completes an evaluation from the two probes at `m`.
+/// Completes an evaluation from the two probes at the unit direction `m`.
 #[inline(always)]
 fn evaluate<A: Side, B: Side>(
     a: &A,
@@ -274,13 +347,6 @@ fn evaluate<A: Side, B: Side>(
     }
 }
 
-/// Inverse of the symmetric 2×2 `[k11, k12, k22]`.
-#[inline(always)]
-fn inverse2(k: &[f64; 3]) -> [f64; 3] {
-    let inv = 1.0 / (k[0] * k[2] - k[1] * k[1]);
-    [k[2] * inv, -k[1] * inv, k[0] * inv]
-}
-
 /// The Newton step `-K⁻¹ g` in tangent coordinates, with K's eigenvalues made positive where
 /// it is not positive definite (and a push of 0.5 rad along a negative-curvature direction
 /// when the gradient vanishes there). At most 0.5 rad long.
@@ -288,11 +354,7 @@ fn inverse2(k: &[f64; 3]) -> [f64; 3] {
 fn newton_step(k: &[f64; 3], g: &[f64; 2], tol: f64) -> [f64; 2] {
     let det = k[0] * k[2] - k[1] * k[1];
     let mut v = if k[0] > 0.0 && det > 0.0 {
-        let inv = 1.0 / det;
-        [
-            -(k[2] * g[0] - k[1] * g[1]) * inv,
-            -(k[0] * g[1] - k[1] * g[0]) * inv,
-        ]
+        newton_step2(k, g)
     } else {
         let (lambda, e) = sym2_eigen(*k);
         let floor = 1e-6 * lambda[0].abs().max(lambda[1].abs()).max(f64::MIN_POSITIVE);
@@ -337,89 +399,150 @@ pub fn contact_with_tolerance(
 ) -> Option<ContactGeometry> {
     let m = initial_direction(a, b, guess);
     let d0 = a.origin - b.origin;
+    // δ's sign at the guess needs no normalised direction (h is 1-homogeneous).
+    let (qa, ma) = probe_placed(a, &m);
+    let (qb, mb) = probe_placed(b, &-m);
+    let raw = m.dot(&d0) + qa.h + qb.h;
+    if below_zero(raw) {
+        return None;
+    }
+    let norm = m.norm_squared().sqrt();
     // The iteration runs in the frame of a poly-ellipsoid (A's if it is one), so that one of
     // the two supports needs no rotation.
+    let start = |frame: Matrix3<f64>, m: Vector3<f64>| Start {
+        rel: frame.tr_mul(&d0),
+        frame,
+        m,
+        norm,
+        raw,
+        pa: qa,
+        pb: qb,
+    };
     match (a.shape, b.shape) {
         (ConvexShape::PolyEllipsoid(pa), ConvexShape::PolyEllipsoid(pb)) => {
-            let ma = a.rot.tr_mul(&m);
-            let mb = -b.rot.tr_mul(&m);
-            let sa = PolySide { pe: pa, rot: None, origin: a.origin, to_world: a.rot };
-            let (qa, qb) = (sa.probe(&ma), pb_probe(pb, &mb));
-            let delta = m.dot(&d0) + qa.h + qb.h;
-            if !(delta >= 0.0) {
-                return None;
-            }
-            let sb = PolySide {
-                pe: pb,
-                rot: Some(b.rot.tr_mul(&a.rot)),
-                origin: b.origin,
-                to_world: b.rot,
-            };
-            newton(&sa, &sb, &a.rot, a.rot.tr_mul(&d0), ma, delta, qa, qb, tolerance)
+            let sb = PolySide::turned(pb, b, b.rot.tr_mul(&a.rot));
+            solve(&PolySide::own(pa, a), &sb, start(a.rot, ma), tolerance)
         }
         (ConvexShape::Sphere { radius }, ConvexShape::PolyEllipsoid(pb)) => {
-            let mb = -b.rot.tr_mul(&m);
-            let qb = pb_probe(pb, &mb);
-            let delta = m.dot(&d0) + radius + qb.h;
-            if !(delta >= 0.0) {
-                return None;
-            }
-            let sa = SphereSide { radius, centre: a.origin, frame: b.rot };
-            let sb = PolySide { pe: pb, rot: None, origin: b.origin, to_world: b.rot };
-            let ml = -mb;
-            newton(&sa, &sb, &b.rot, b.rot.tr_mul(&d0), ml, delta, sa.probe(&ml), qb, tolerance)
+            let sa = SphereSide::new(radius, a, b.rot);
+            solve(&sa, &PolySide::own(pb, b), start(b.rot, -mb), tolerance)
         }
         (ConvexShape::PolyEllipsoid(pa), ConvexShape::Sphere { radius }) => {
-            let ma = a.rot.tr_mul(&m);
-            let sa = PolySide { pe: pa, rot: None, origin: a.origin, to_world: a.rot };
-            let qa = sa.probe(&ma);
-            let delta = m.dot(&d0) + qa.h + radius;
-            if !(delta >= 0.0) {
-                return None;
-            }
-            let sb = SphereSide { radius, centre: b.origin, frame: a.rot };
-            newton(&sa, &sb, &a.rot, a.rot.tr_mul(&d0), ma, delta, qa, sb.probe(&-ma), tolerance)
+            let sb = SphereSide::new(radius, b, a.rot);
+            solve(&PolySide::own(pa, a), &sb, start(a.rot, ma), tolerance)
         }
         (ConvexShape::Sphere { radius: ra }, ConvexShape::Sphere { radius: rb }) => {
-            let delta = m.dot(&d0) + ra + rb;
-            if !(delta >= 0.0) {
-                return None;
-            }
             let i = Matrix3::identity();
-            let sa = SphereSide { radius: ra, centre: a.origin, frame: i };
-            let sb = SphereSide { radius: rb, centre: b.origin, frame: i };
-            newton(&sa, &sb, &i, d0, m, delta, sa.probe(&m), sb.probe(&-m), tolerance)
+            let (sa, sb) = (SphereSide::new(ra, a, i), SphereSide::new(rb, b, i));
+            solve(&sa, &sb, start(i, m), tolerance)
         }
     }
 }
 
-/// The probe of a poly-ellipsoid at a direction of its own frame.
-#[inline(always)]
-fn pb_probe(pe: &PolyEllipsoid, dl: &Vector3<f64>) -> Probe {
-    PolySide { pe, rot: None, origin: Vector3::zeros(), to_world: Matrix3::zeros() }.probe(dl)
+/// Where the iteration starts: the iteration frame (`frame` maps it to the world), `o_A - o_B`
+/// in it, the direction `m` from A towards B of length `norm` with `raw = |m| δ(m/|m|) >= 0`,
+/// and the two probes taken at `m` and `-m`.
+struct Start {
+    frame: Matrix3<f64>,
+    rel: Vector3<f64>,
+    m: Vector3<f64>,
+    norm: f64,
+    raw: f64,
+    pa: Probe,
+    pb: Probe,
 }
 
-/// Newton's method on the unit sphere for `min δ(m)` from `m` (unit, iteration frame, from A
-/// towards B) where δ = `delta` ≥ 0 and the probes are given. `frame` maps the iteration
-/// frame to the world, `rel` is `x_A - x_B` (origins) in the iteration frame.
+/// The probe of a placed body at the world direction `d` (any length), and `d` in its shape
+/// frame.
+#[inline(always)]
+fn probe_placed(p: &Placed, d: &Vector3<f64>) -> (Probe, Vector3<f64>) {
+    match p.shape {
+        ConvexShape::Sphere { radius } => (sphere_probe(radius, d.norm_squared().sqrt()), *d),
+        ConvexShape::PolyEllipsoid(pe) => {
+            let dl = p.rot.tr_mul(d);
+            (pe.support_at(&dl), dl)
+        }
+    }
+}
+
+/// Minimises δ from `start`. An overlap deeper than [`DEEP_OVERLAP`] of the thinner body's
+/// smallest axis width is solved again from the ± shape axes of both bodies, keeping the
+/// smallest minimum (deep overlaps can have several local minima).
+#[inline(always)]
+fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option<ContactGeometry> {
+    let Start {
+        frame,
+        rel,
+        m,
+        norm,
+        raw,
+        pa,
+        pb,
+    } = start;
+    let (mut best, mut iterations) = newton(a, b, &rel, m, norm, raw, pa, pb, tolerance)?;
+    if best.delta > DEEP_OVERLAP * a.axis_width().min(b.axis_width()) {
+        for axes in [a.axes(), b.axes()] {
+            for k in 0..6 {
+                let d = axes.column(k / 2) * if k % 2 == 0 { 1.0 } else { -1.0 };
+                let (qa, qb) = (a.probe(&a.to_body(&d), 1.0), b.probe(&b.to_body(&-d), 1.0));
+                let raw = d.dot(&rel) + qa.h + qb.h;
+                if below_zero(raw) {
+                    return None;
+                }
+                let (e, steps) = newton(a, b, &rel, d, 1.0, raw, qa, qb, tolerance)?;
+                iterations += steps;
+                if e.delta < best.delta {
+                    best = e;
+                }
+            }
+        }
+    }
+    let e = best;
+    let point_a = a.world_point(&e.pa, &e.m);
+    let point_b = b.world_point(&e.pb, &-e.m);
+    // r_eff = 1/sqrt(det(K_A + K_B)) with K = H⁻¹ = adj(H)/det(H): one square root, one division.
+    let (ha, hb) = (&e.ha, &e.hb);
+    let (da, db) = (ha[0] * ha[2] - ha[1] * ha[1], hb[0] * hb[2] - hb[1] * hb[1]);
+    let x = [
+        db * ha[2] + da * hb[2],
+        db * ha[1] + da * hb[1],
+        db * ha[0] + da * hb[0],
+    ];
+    Some(ContactGeometry {
+        normal: -(frame * e.m),
+        depth: e.delta,
+        point: 0.5 * (point_a + point_b),
+        point_a,
+        point_b,
+        r_eff: da * db / (x[0] * x[2] - x[1] * x[1]).sqrt(),
+        iterations,
+    })
+}
+
+/// Newton's method on the unit sphere for `min δ(m)` from `m` of length `norm` (see
+/// [`Start`]): the converged
+/// evaluation and the steps taken, or `None` when an iterate shows δ < 0 (separated).
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn newton<A: Side, B: Side>(
     a: &A,
     b: &B,
-    frame: &Matrix3<f64>,
-    rel: Vector3<f64>,
+    rel: &Vector3<f64>,
     m: Vector3<f64>,
-    delta: f64,
-    pa: Probe,
-    pb: Probe,
+    norm: f64,
+    raw: f64,
+    mut pa: Probe,
+    mut pb: Probe,
     tolerance: f64,
-) -> Option<ContactGeometry> {
+) -> Option<(Eval, u32)> {
+    let inv = 1.0 / norm;
+    rescale(&mut pa, norm, inv);
+    rescale(&mut pb, norm, inv);
     let scale = pa.h + pb.h;
-    let tol2 = (tolerance * scale).powi(2);
+    let tol = tolerance * scale;
     // δ sums terms of size `scale` and `|rel|`: changes below this are round-off.
     let round = 1e-14 * (scale + rel.amax());
-    let mut e = evaluate(a, b, &rel, m, delta, pa, pb);
+    let mut e = evaluate(a, b, rel, m * inv, raw * inv, pa, pb);
     let mut iterations = 0;
     loop {
         let k = [
@@ -429,22 +552,27 @@ fn newton<A: Side, B: Side>(
         ];
         let positive = k[0] > 0.0 && k[0] * k[2] > k[1] * k[1];
         let g2 = e.g[0] * e.g[0] + e.g[1] * e.g[1];
-        if (g2 <= tol2 && positive) || iterations >= MAX_ITERATIONS {
+        if (g2 <= tol * tol && positive) || iterations >= MAX_ITERATIONS {
             break;
         }
-        let mut v = newton_step(&k, &e.g, tol2.sqrt());
+        let mut v = newton_step(&k, &e.g, tol);
         let mut accepted = false;
         for _ in 0..40 {
+            // |step| >= 1; the probes run on the unnormalised step beside its normalisation
+            // (only a sphere's probe uses the length).
             let step = e.m + v[0] * e.t1 + v[1] * e.t2;
-            let trial = step * (1.0 / step.norm_squared().sqrt());
-            let qa = a.probe(&a.to_body(&trial));
-            let qb = b.probe(&b.to_body(&-trial));
-            let td = trial.dot(&rel) + qa.h + qb.h;
-            if !(td >= 0.0) {
+            let norm = step.norm_squared().sqrt();
+            let mut qa = a.probe(&a.to_body(&step), norm);
+            let mut qb = b.probe(&b.to_body(&-step), norm);
+            let raw = step.dot(rel) + qa.h + qb.h;
+            if below_zero(raw) {
                 return None;
             }
-            if td <= e.delta + round {
-                e = evaluate(a, b, &rel, trial, td, qa, qb);
+            if raw <= norm * (e.delta + round) {
+                let inv = 1.0 / norm;
+                rescale(&mut qa, norm, inv);
+                rescale(&mut qb, norm, inv);
+                e = evaluate(a, b, rel, step * inv, raw * inv, qa, qb);
                 accepted = true;
                 break;
             }
@@ -456,35 +584,36 @@ fn newton<A: Side, B: Side>(
         }
         iterations += 1;
     }
-    if !(e.delta > 0.0) {
+    if at_most_zero(e.delta) {
         return None;
     }
-    let point_a = a.world_point(&e.pa);
-    let point_b = b.world_point(&e.pb);
-    let (ka, kb) = (inverse2(&e.ha), inverse2(&e.hb));
-    let det = (ka[0] + kb[0]) * (ka[2] + kb[2]) - (ka[1] + kb[1]).powi(2);
-    Some(ContactGeometry {
-        normal: -(frame * e.m),
-        depth: e.delta,
-        point: 0.5 * (point_a + point_b),
-        point_a,
-        point_b,
-        r_eff: 1.0 / det.sqrt(),
-        iterations,
-    })
+    Some((e, iterations))
 }
 
-/// The starting direction from A towards B (unit): `-guess`, else centroid to centroid, else +x.
+/// `x < 0`, or NaN: a NaN from degenerate input never counts as an overlap.
+#[inline(always)]
+fn below_zero(x: f64) -> bool {
+    x.is_nan() || x < 0.0
+}
+
+/// `x <= 0`, or NaN.
+#[inline(always)]
+fn at_most_zero(x: f64) -> bool {
+    x.is_nan() || x <= 0.0
+}
+
+/// The starting direction from A towards B (any length): `-guess`, else centroid to
+/// centroid, else +x.
 #[inline]
 fn initial_direction(a: &Placed, b: &Placed, guess: &Vector3<f64>) -> Vector3<f64> {
     let n2 = guess.norm_squared();
     if n2 > 0.0 && n2.is_finite() {
-        return guess * (-1.0 / n2.sqrt());
+        return -guess;
     }
     let c = b.centroid() - a.centroid();
     let c2 = c.norm_squared();
     if c2 > 0.0 && c2.is_finite() {
-        c / c2.sqrt()
+        c
     } else {
         Vector3::x()
     }
@@ -508,17 +637,21 @@ pub fn wall_contact(
             [radius, 0.0, radius],
         ),
         ConvexShape::PolyEllipsoid(pe) => {
-            let side = PolySide { pe, rot: None, origin: a.origin, to_world: a.rot };
+            let side = PolySide::own(pe, a);
             let m = -a.rot.tr_mul(wall_normal);
-            let p = side.probe(&m);
-            if !(base + p.h > 0.0) {
+            let p = pe.support_at(&m);
+            if at_most_zero(base + p.h) {
                 return None;
             }
             let (t1, t2) = tangent_basis(&m);
-            (base + p.h, side.world_point(&p), side.tangent(&p, &t1, &t2).1)
+            (
+                base + p.h,
+                side.world_point(&p, &m),
+                side.tangent(&p, &t1, &t2).1,
+            )
         }
     };
-    if !(depth > 0.0) {
+    if at_most_zero(depth) {
         return None;
     }
     let point_b = point_a + depth * wall_normal;
@@ -547,7 +680,11 @@ mod tests {
             let a = Placed::sphere(ra, ca);
             let b = Placed::sphere(rb, cb);
             let c = contact(&a, &b, &(ca - cb)).unwrap();
-            assert!((c.depth - overlap).abs() < 1e-12 * (ra + rb), "{} vs {overlap}", c.depth);
+            assert!(
+                (c.depth - overlap).abs() < 1e-12 * (ra + rb),
+                "{} vs {overlap}",
+                c.depth
+            );
             assert!((c.normal - dir).norm() < 1e-12);
             assert!((c.r_eff - ra * rb / (ra + rb)).abs() < 1e-12 * ra);
             assert!((c.point_a - (ca - dir * ra)).norm() < 1e-12 * ra);
@@ -556,6 +693,8 @@ mod tests {
             // Zero guess: the centre-to-centre fallback gives the same contact.
             let z = contact(&a, &b, &Vector3::zeros()).unwrap();
             assert!((z.depth - c.depth).abs() < 1e-15 && (z.normal - c.normal).norm() < 1e-15);
+            let nan = contact(&a, &b, &Vector3::new(f64::NAN, 0.0, 1.0)).unwrap();
+            assert_eq!(nan, z);
             // A poor guess converges too.
             let off = contact(&a, &b, &(dir + Vector3::new(0.3, 0.2, -0.1))).unwrap();
             assert!((off.depth - overlap).abs() < 1e-12 * (ra + rb));

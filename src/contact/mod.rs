@@ -1,5 +1,7 @@
 //! Contact detection and contact laws.
 //!
+//! * [`convex`]: contact geometry of poly-ellipsoids, spheres and walls (Newton on the
+//!   support functions), with the Hertz equivalent radius from the local curvatures.
 //! * [`neighbor`]: broad phase (cell list, Verlet half list, wall candidate lists).
 //! * [`hertz_mindlin`]: the Hertz–Mindlin force kernel with optional damping and friction.
 //! * [`restitution`]: the exact map from a coefficient of restitution to Hertz damping.
