@@ -7,7 +7,9 @@
 //! summary.json, VTK snapshots and checkpoints for any run.
 //! SI units throughout. See docs/architecture.md for the map of the code.
 
+pub mod beam2d;
 pub mod bench;
+pub mod bond;
 pub mod contact;
 pub mod driver;
 pub mod effects;

@@ -7,6 +7,7 @@
 mod overrides;
 mod parse;
 mod validate;
+mod validate_beam2d;
 
 use std::path::{Path, PathBuf};
 
@@ -46,6 +47,9 @@ pub struct Scene {
     /// Where the scene came from (for messages and relative paths); not a key.
     #[serde(skip)]
     pub source: SceneSource,
+    // beam2d: the fragment mass histogram and its power-law fit.
+    #[serde(default)]
+    pub fragments: FragmentSpec,
 }
 
 fn default_seed() -> u64 {
@@ -72,7 +76,9 @@ pub struct SceneSource {
 pub struct Material {
     /// Young's modulus E (Pa), > 0.
     pub young: f64,
-    /// Poisson's ratio ν, in (-1, 0.5).
+    /// Poisson's ratio ν, in (-1, 0.5). Required by the sphere models; `beam2d` does not read
+    /// it (its polygons are rigid), so there it may be left out (NaN marks it absent).
+    #[serde(default = "absent")]
     pub poisson: f64,
     /// Density ρ (kg/m³), > 0.
     pub density: f64,
@@ -82,10 +88,25 @@ pub struct Material {
     /// Normal coefficient of restitution e, in (0, 1] (used by the `damping` effect).
     #[serde(default = "one")]
     pub restitution: f64,
+    // beam2d (docs/scenes.md): beams (Eq. 7-12), their breaking (Eq. 13), contact damping (Eq. 3-4).
+    /// Young's modulus E of the beams (Pa), > 0.
+    pub beam_young: Option<f64>,
+    /// Stretching threshold t_ε of the breaking rule (strain), > 0.
+    pub beam_strain_threshold: Option<f64>,
+    /// Bending threshold t_Θ of the breaking rule (rad), > 0.
+    pub beam_bending_threshold: Option<f64>,
+    /// Normal damping coefficient γ_N (1/s), ≥ 0.
+    pub normal_damping: Option<f64>,
+    /// Tangential (friction) coefficient γ_T (1/s), ≥ 0.
+    pub tangential_damping: Option<f64>,
 }
 
 fn one() -> f64 {
     1.0
+}
+
+fn absent() -> f64 {
+    f64::NAN
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -103,6 +124,8 @@ pub enum SampleKind {
     LammpsData,
     /// A YADE `ymport.text` / `export.textExt(..., 'x_y_z_r')` file: `x y z r` per line.
     YadeText,
+    /// beam2d: Voronoi polygons of one random point per square of a regular grid.
+    VectorizableRandomLattice,
 }
 
 impl SampleKind {
@@ -114,6 +137,7 @@ impl SampleKind {
             SampleKind::Text => "text",
             SampleKind::LammpsData => "lammps_data",
             SampleKind::YadeText => "yade_text",
+            SampleKind::VectorizableRandomLattice => "vectorizable_random_lattice",
         }
     }
 }
@@ -147,6 +171,38 @@ pub struct SampleSpec {
     pub layers: Option<[usize; 3]>,
     /// Packing file (text, lammps_data), relative to the scene file.
     pub file: Option<String>,
+    // beam2d: the vectorizable random lattice.
+    /// Lattice spacing (m) of the grid of squares.
+    pub spacing: Option<f64>,
+    /// Largest distance (m) of a square's point from its centre, in [0, spacing].
+    pub disorder: Option<f64>,
+    /// The outline the polygons are cut to.
+    pub outline: Option<Outline>,
+    /// Grid squares [nx, ny] of a rectangle.
+    pub cells: Option<[usize; 2]>,
+    /// Diameter (m) of a disc.
+    pub diameter: Option<f64>,
+    /// Out-of-plane thickness (m) of the 2D solid; default 1.
+    pub thickness: Option<f64>,
+}
+
+/// beam2d: the outline of a polygon sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outline {
+    /// `cells` squares of `spacing`, lower left corner at the origin.
+    Rectangle,
+    /// A disc of `diameter` centred at the origin.
+    Disc,
+}
+
+impl Outline {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Outline::Rectangle => "rectangle",
+            Outline::Disc => "disc",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -155,6 +211,17 @@ pub enum ModelKind {
     /// Spheres (and, with fracture, poly-ellipsoids) with Hertz–Mindlin contacts.
     #[default]
     Granular,
+    /// 2D Voronoi polygons joined by breakable beams (polygon-beam-fragmentation-2d).
+    Beam2d,
+}
+
+impl ModelKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ModelKind::Granular => "granular",
+            ModelKind::Beam2d => "beam2d",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -176,6 +243,10 @@ pub enum EffectKind {
     Friction,
     /// Body force m·g.
     Gravity,
+    /// beam2d: elastic beams between neighbouring polygons (Eq. 7-12).
+    Beams,
+    /// beam2d: beams break by Eq. 13 and never return.
+    BeamBreaking,
 }
 
 impl EffectKind {
@@ -185,6 +256,8 @@ impl EffectKind {
             EffectKind::Damping => "damping",
             EffectKind::Friction => "friction",
             EffectKind::Gravity => "gravity",
+            EffectKind::Beams => "beams",
+            EffectKind::BeamBreaking => "beam_breaking",
         }
     }
 }
@@ -197,6 +270,29 @@ pub enum LoadingKind {
     /// Oedometric compression: the top (+z) wall moves down at a constant strain rate, the
     /// other five walls are fixed.
     Oedometer,
+    /// beam2d: uniaxial elongation, then compression from the same start, under plane stress
+    /// with free sides (Section 3.1).
+    ElasticModuli,
+    /// beam2d: strain-controlled compression between confined horizontal boundaries
+    /// (Section 3.2).
+    ConfinedCompression,
+    /// beam2d: the centre polygon explodes (Section 3.3.1).
+    Explosion,
+    /// beam2d: one polygon at the lower middle is shot into the block (Section 3.3.2).
+    Projectile,
+}
+
+impl LoadingKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LoadingKind::None => "none",
+            LoadingKind::Oedometer => "oedometer",
+            LoadingKind::ElasticModuli => "elastic_moduli",
+            LoadingKind::ConfinedCompression => "confined_compression",
+            LoadingKind::Explosion => "explosion",
+            LoadingKind::Projectile => "projectile",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -209,6 +305,15 @@ pub struct LoadingSpec {
     pub end_strain: Option<f64>,
     /// Duration of the run (s) for `kind = "none"`.
     pub end_time: Option<f64>,
+    // beam2d loadings.
+    /// Time (s) over which the driven boundaries accelerate uniformly to their final speed.
+    pub ramp_time: Option<f64>,
+    /// Energy E0 (J) of the explosion.
+    pub energy: Option<f64>,
+    /// Speed (m/s) of the projectile polygon.
+    pub speed: Option<f64>,
+    /// The run stops after this many steps without a beam breaking (explosion, projectile).
+    pub quiet_steps: Option<u64>,
 }
 
 /// The time step: a number of seconds, or "auto" for the Rayleigh critical step × safety.
@@ -224,6 +329,17 @@ pub enum DtSpec {
 pub enum IntegratorKind {
     #[default]
     VelocityVerlet,
+    /// beam2d: Gear's fifth-order predictor–corrector.
+    Gear5,
+}
+
+impl IntegratorKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            IntegratorKind::VelocityVerlet => "velocity_verlet",
+            IntegratorKind::Gear5 => "gear5",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -310,6 +426,35 @@ pub struct WallSpec {
     /// Coulomb friction between grains and walls (default: material.friction); 0 models
     /// lubricated walls.
     pub friction: Option<f64>,
+}
+
+/// beam2d: how fragment masses are binned and where the power law F(m) ~ m^-β is fitted.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FragmentSpec {
+    /// The fit range [lo, hi] in mean polygon masses.
+    #[serde(default = "default_fit_range")]
+    pub fit_range: [f64; 2],
+    /// Logarithmic bins per decade of mass.
+    #[serde(default = "default_bins_per_decade")]
+    pub bins_per_decade: u32,
+}
+
+fn default_fit_range() -> [f64; 2] {
+    [2.0, 50.0]
+}
+
+fn default_bins_per_decade() -> u32 {
+    4
+}
+
+impl Default for FragmentSpec {
+    fn default() -> Self {
+        FragmentSpec {
+            fit_range: default_fit_range(),
+            bins_per_decade: default_bins_per_decade(),
+        }
+    }
 }
 
 impl Scene {

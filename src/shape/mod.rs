@@ -1,6 +1,9 @@
 //! Particle shapes. Spheres are the fast special case: their radius lives in
 //! `Bodies::radius` and their contact needs no orientation.
 
+// beam2d: convex polygons and half-plane clipping.
+pub mod polygon;
+
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
