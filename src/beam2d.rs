@@ -452,6 +452,19 @@ impl Beam2dRun {
         Ok(())
     }
 
+    /// Elastic energy (J) stored in the intact beams.
+    pub fn beam_energy(&self) -> f64 {
+        let (b, p) = (&self.beams, &self.polygons);
+        (0..b.len())
+            .filter(|&k| b.intact[k])
+            .map(|k| {
+                let (i, j) = (b.i[k] as usize, b.j[k] as usize);
+                let r = b.response(k, p.centre(i), p.q[i][2], p.centre(j), p.q[j][2]);
+                b.energy(k, &r)
+            })
+            .sum()
+    }
+
     /// Fragment labels over the intact beams, and their number.
     pub fn fragments(&self) -> (Vec<u32>, usize) {
         let b = &self.beams;
@@ -585,10 +598,6 @@ impl Beam2dRun {
             "kinetic_energy_final".into(),
             self.polygons.kinetic_energy().into(),
         );
-        m.insert(
-            "neighbour_list_builds".into(),
-            self.pipeline.neighbour_builds().into(),
-        );
         self.loading.summarize(&self.series, &mut m);
         match &self.loading {
             Beam2dLoading::ConfinedCompression(_) => {
@@ -702,6 +711,21 @@ impl Beam2dRun {
         }
         s
     }
+}
+
+/// The power law fitted to the fragment mass histogram averaged over several runs of one
+/// scene (different seeds): the fragments of two or more polygons of all runs, binned in units
+/// of the runs' mean polygon mass, per run; fitted over the scene's `fragments.fit_range`.
+pub fn averaged_power_law(runs: &[&Beam2dRun]) -> Option<PowerLawFit> {
+    let first = runs.first()?;
+    let unit = runs.iter().map(|r| r.mean_polygon_mass).sum::<f64>() / runs.len() as f64;
+    let masses: Vec<f64> = runs
+        .iter()
+        .flat_map(|r| r.multi_polygon_fragment_masses())
+        .collect();
+    let f = &first.scene.fragments;
+    let bins = mass_histogram(&masses, unit, f.bins_per_decade, runs.len());
+    fit_power_law(&bins, f.fit_range[0] * unit, f.fit_range[1] * unit)
 }
 
 impl Run for Beam2dRun {

@@ -44,6 +44,9 @@ pub const FREE_COLUMNS: [&str; 7] = [
 /// Fraction of each phase's end strain from which the moduli are fitted.
 pub const MODULUS_FIT_FROM: f64 = 0.25;
 
+/// Fractions of the failure strain between which the confined compression's modulus is fitted.
+pub const COMPRESSION_FIT: [f64; 2] = [0.2, 0.6];
+
 /// The top and bottom boundary layers of a rectangle, driven along y, and the free sides.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Driven {
@@ -300,39 +303,41 @@ impl Beam2dLoading {
         ) else {
             return;
         };
-        let fit = |sign: f64, y: &[f64]| {
+        let fit = |y: &[f64], lo: f64, hi: f64| {
             let pts: Vec<(f64, f64)> = strain
                 .iter()
                 .zip(y)
-                .filter(|(e, _)| sign * **e >= MODULUS_FIT_FROM * d.end_strain)
+                .filter(|(e, _)| **e >= lo && **e <= hi)
                 .map(|(e, s)| (*e, *s))
                 .collect();
             (pts.len() >= 3).then(|| super::least_squares_slope(&pts))
         };
-        let range = serde_json::json!([MODULUS_FIT_FROM * d.end_strain, d.end_strain]);
         match self {
             Beam2dLoading::ElasticModuli(_) => {
-                for (sign, name) in [(1.0, "elongation"), (-1.0, "compression")] {
-                    if let (Some(k), Some(nu)) = (fit(sign, &stress), fit(sign, &lateral)) {
+                let (lo, hi) = (MODULUS_FIT_FROM * d.end_strain, d.end_strain);
+                for (name, lo, hi) in [("elongation", lo, hi), ("compression", -hi, -lo)] {
+                    if let (Some(k), Some(nu)) = (fit(&stress, lo, hi), fit(&lateral, lo, hi)) {
                         out.insert(format!("young_{name}"), k.into());
                         out.insert(format!("poisson_{name}"), (-nu).into());
                     }
                 }
-                out.insert("modulus_strain_range".into(), range);
+                out.insert("modulus_strain_range".into(), serde_json::json!([lo, hi]));
             }
             Beam2dLoading::ConfinedCompression(_) => {
-                if let Some(k) = fit(-1.0, &stress) {
-                    out.insert("young_compression".into(), k.into());
-                    out.insert("modulus_strain_range".into(), range);
-                }
                 let peak = (0..stress.len()).max_by(|&a, &b| (-stress[a]).total_cmp(&-stress[b]));
-                if let Some(k) = peak {
-                    out.insert("peak_stress".into(), (-stress[k]).into());
-                    out.insert("failure_strain".into(), (-strain[k]).into());
-                    out.insert("peak_time".into(), series.rows[k][0].into());
-                }
+                let Some(k) = peak else { return };
+                let failure = -strain[k];
+                out.insert("peak_stress".into(), (-stress[k]).into());
+                out.insert("failure_strain".into(), failure.into());
+                out.insert("peak_time".into(), series.rows[k][0].into());
                 if let Some(last) = stress.last() {
                     out.insert("stress_final".into(), (-last).into());
+                }
+                // The linear part before failure: 20% to 60% of the failure strain.
+                let (lo, hi) = (COMPRESSION_FIT[0] * failure, COMPRESSION_FIT[1] * failure);
+                if let Some(k) = fit(&stress, -hi, -lo) {
+                    out.insert("young_compression".into(), k.into());
+                    out.insert("modulus_strain_range".into(), serde_json::json!([lo, hi]));
                 }
             }
             _ => {}

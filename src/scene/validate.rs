@@ -93,6 +93,7 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
     if s.name.trim().is_empty() {
         return Err(s.key_error("name", "must not be empty"));
     }
+    validate_beam2d::validate_model(s)?;
     let m = &s.material;
     check(s, "material.young", m.young, Range::POSITIVE, "Pa")?;
     // beam2d's rigid polygons have no Poisson's ratio: there it may be left out.
@@ -116,9 +117,9 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
         "",
     )?;
 
-    validate_beam2d::validate_model(s)?;
     validate_sample(s)?;
     validate_effects(s)?;
+    validate_beam2d::validate_keys(s)?;
 
     let l = &s.loading;
     match l.kind {

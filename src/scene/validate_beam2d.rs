@@ -22,7 +22,7 @@ fn is_beam2d_loading(kind: LoadingKind) -> bool {
     )
 }
 
-/// Keys that belong to one model only, and the beam2d model's own keys.
+/// Keys that belong to one model only: checked first, before their values.
 pub(super) fn validate_model(s: &Scene) -> Result<()> {
     let model = s.model.kind.as_str();
     let beam2d = s.model.kind == ModelKind::Beam2d;
@@ -66,15 +66,18 @@ pub(super) fn validate_model(s: &Scene) -> Result<()> {
             ));
         }
     }
-    if !beam2d {
-        if s.time.integrator == IntegratorKind::Gear5 {
-            return Err(s.key_error(
-                "time.integrator",
-                format!(
-                    "= \"gear5\" is available for model.kind = \"beam2d\" only, not \"{model}\""
-                ),
-            ));
-        }
+    if !beam2d && s.time.integrator == IntegratorKind::Gear5 {
+        return Err(s.key_error(
+            "time.integrator",
+            format!("= \"gear5\" is available for model.kind = \"beam2d\" only, not \"{model}\""),
+        ));
+    }
+    Ok(())
+}
+
+/// The beam2d model's own keys (for other models, nothing).
+pub(super) fn validate_keys(s: &Scene) -> Result<()> {
+    if s.model.kind != ModelKind::Beam2d {
         return Ok(());
     }
     validate_beam2d_material(s)?;
