@@ -123,7 +123,7 @@ fn make_beams(scene: &Scene, sample: &PolygonSample) -> Beams {
     let p = &sample.polygons;
     for s in &sample.sides {
         let (i, j) = (s.i as usize, s.j as usize);
-        beams.push(i, j, p.centre(i), p.centre(j), s.length, t, young);
+        beams.push([i, j], [p.centre(i), p.centre(j)], s.length, t, young);
     }
     beams
 }

@@ -260,7 +260,7 @@ fn confined_compression_splits_into_columns_along_the_load() {
         .lines()
         .filter_map(|l| l.split("file=\"").nth(1))
         .map(|l| l.split('"').next().unwrap())
-        .last()
+        .next_back()
         .unwrap();
     let vtu = fs::read_to_string(out.join(last)).unwrap();
     let cells: f64 = vtu

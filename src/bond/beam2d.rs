@@ -111,14 +111,12 @@ impl Beams {
         self.i.is_empty()
     }
 
-    /// Adds a beam between centres `ci` and `cj` across a shared side of length `side`, in a
-    /// solid of `thickness`, of Young's modulus `young`.
+    /// Adds a beam between polygons `[i, j]` with centres `[ci, cj]` across a shared side of
+    /// length `side`, in a solid of `thickness`, of Young's modulus `young`.
     pub fn push(
         &mut self,
-        i: usize,
-        j: usize,
-        ci: Vec2,
-        cj: Vec2,
+        [i, j]: [usize; 2],
+        [ci, cj]: [Vec2; 2],
         side: f64,
         thickness: f64,
         young: f64,
@@ -215,7 +213,7 @@ mod tests {
     fn one_beam() -> (Beams, f64, f64, f64) {
         let (e, l, side, t) = (5e8, 0.01, 0.006, 0.01);
         let mut b = Beams::default();
-        b.push(0, 1, Vec2::zeros(), Vec2::new(l, 0.0), side, t, e);
+        b.push([0, 1], [Vec2::zeros(), Vec2::new(l, 0.0)], side, t, e);
         (b, e, side * t, t * side.powi(3) / 12.0)
     }
 

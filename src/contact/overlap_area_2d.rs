@@ -44,6 +44,26 @@ pub struct Overlap {
 /// inside the other, or two long polygons crossing), the force acts at the intersection's
 /// centroid along the line between the centres.
 pub fn overlap(pi: &[Vec2], pj: &[Vec2], ci: Vec2, cj: Vec2) -> Option<Overlap> {
+    overlap_in(&mut ClipBuffers::default(), pi, pj, ci, cj)
+}
+
+/// Working space of [`overlap_in`], reused from pair to pair (it is large enough that
+/// clearing a fresh one for every pair shows in the profile).
+#[derive(Debug, Clone, Default)]
+pub struct ClipBuffers {
+    a: TaggedPolygon<CLIP_CAPACITY>,
+    b: TaggedPolygon<CLIP_CAPACITY>,
+}
+
+/// [`overlap`] with its working space supplied.
+#[inline]
+pub fn overlap_in(
+    buffers: &mut ClipBuffers,
+    pi: &[Vec2],
+    pj: &[Vec2],
+    ci: Vec2,
+    cj: Vec2,
+) -> Option<Overlap> {
     // The edges of j that cut i; an edge with all of i outside separates them.
     let n = pj.len();
     let mut cuts = [(Vec2::zeros(), 0.0); MAX_VERTICES];
@@ -62,11 +82,10 @@ pub fn overlap(pi: &[Vec2], pj: &[Vec2], ci: Vec2, cj: Vec2) -> Option<Overlap> 
             ncut += 1;
         }
     }
-    let mut a = TaggedPolygon::<CLIP_CAPACITY>::default();
+    let ClipBuffers { a, b: scratch } = buffers;
     a.set(pi, FROM_I);
-    let mut scratch = TaggedPolygon::<CLIP_CAPACITY>::default();
     a.clip_all(
-        &mut scratch,
+        scratch,
         cuts[..ncut]
             .iter()
             .map(|&(out, offset)| (out, offset, FROM_J)),
@@ -83,15 +102,16 @@ pub fn overlap(pi: &[Vec2], pj: &[Vec2], ci: Vec2, cj: Vec2) -> Option<Overlap> 
     }
     let mut crossings = [Vec2::zeros(); 2];
     let mut count = 0;
-    let m = a.len;
-    for k in 0..m {
-        let prev = if k == 0 { m - 1 } else { k - 1 };
-        if a.tag[prev] != a.tag[k] {
+    let tags = &a.tag[..a.len];
+    let mut prev = tags[tags.len() - 1];
+    for (&tag, &x) in tags.iter().zip(v) {
+        if prev != tag {
             if count < 2 {
-                crossings[count] = v[k];
+                crossings[count] = x;
             }
             count += 1;
         }
+        prev = tag;
     }
     let axis = cj - ci;
     if count == 2 {

@@ -4,17 +4,21 @@
 //! built.
 //!
 //! Each effect first computes every pair's or beam's force into its own buffer (in parallel
-//! where that pays: the items are independent), then sums them per polygon in a fixed order:
+//! where that pays: the items are independent, and with several threads the contacts and the
+//! beams are computed side by side), then one pass sums them per polygon in a fixed order:
 //! its pairs as the first body, then as the partner, then its beams. That order does not
 //! depend on the number of threads, so one and two threads give bit-identical results, and it
 //! does not depend on when the neighbour list was last rebuilt (pairs that do not touch add
-//! exact zeros), so a resumed run continues bit for bit.
+//! exact zeros), so a resumed run continues bit for bit. Three parallel regions per step
+//! (placing the polygons, the forces, the sums): each costs a wake-up of the workers.
 
 use rayon::prelude::*;
 
 use crate::bond::beam2d::{Beams, BreakingRule};
 use crate::contact::neighbor::PairList;
-use crate::contact::overlap_area_2d::{OverlapLaw, characteristic_length, contact_force, overlap};
+use crate::contact::overlap_area_2d::{
+    ClipBuffers, OverlapLaw, characteristic_length, contact_force, overlap_in,
+};
 use crate::parallel::threads_here;
 use crate::scene::{EffectKind, Scene};
 use crate::shape::polygon::{MAX_VERTICES, Vec2, cross, perp};
@@ -40,22 +44,24 @@ pub struct StepCounts {
 }
 
 /// The contact effect, whatever sub-models it was compiled with.
-trait ContactEffect: Send {
+trait ContactEffect: Send + Sync {
     fn describe(&self) -> String;
-    fn accumulate(&mut self, polys: &Polygons, f: &mut [[f64; 3]]) -> usize;
+    /// Places the polygons for this step (world vertices, bounding boxes).
+    fn place(&mut self, polys: &Polygons);
+    /// Every pair's force into the buffer; returns the overlapping pairs.
+    fn compute(&mut self, polys: &Polygons) -> usize;
+    /// Adds polygon k's pair forces to `fk`.
+    fn gather(&self, k: usize, fk: &mut [f64; 3]);
     fn rebuilds(&self) -> u64;
 }
 
 /// The beams effect, with or without breaking.
-trait BeamEffect: Send {
+trait BeamEffect: Send + Sync {
     fn describe(&self) -> String;
-    fn accumulate(
-        &mut self,
-        polys: &Polygons,
-        beams: &mut Beams,
-        time: f64,
-        f: &mut [[f64; 3]],
-    ) -> usize;
+    /// Every beam's force into the buffer; breaks beams; returns how many broke.
+    fn compute(&mut self, polys: &Polygons, beams: &mut Beams, time: f64) -> usize;
+    /// Adds polygon k's beam forces to `fk`.
+    fn gather(&self, k: usize, fk: &mut [f64; 3]);
 }
 
 /// The effects of a beam2d scene, in a fixed order: contact, then beams.
@@ -118,13 +124,35 @@ impl PolygonPipeline {
         time: f64,
         f: &mut [[f64; 3]],
     ) -> StepCounts {
-        f.fill([0.0; 3]);
-        let mut counts = StepCounts::default();
         if let Some(c) = &mut self.contact {
-            counts.contacts = c.accumulate(polys, f);
+            c.place(polys);
         }
-        if let Some(b) = &mut self.beams {
-            counts.broken = b.accumulate(polys, beams, time, f);
+        let (contact, beam) = (&mut self.contact, &mut self.beams);
+        let mut contacts = move || contact.as_mut().map_or(0, |c| c.compute(polys));
+        let mut broken = move || beam.as_mut().map_or(0, |b| b.compute(polys, beams, time));
+        let (contacts, broken) = if threads_here() > 1 {
+            rayon::join(contacts, broken)
+        } else {
+            (contacts(), broken())
+        };
+        let counts = StepCounts { contacts, broken };
+        let (contact, beam) = (self.contact.as_deref(), self.beams.as_deref());
+        let gather = |(k, fk): (usize, &mut [f64; 3])| {
+            *fk = [0.0; 3];
+            if let Some(c) = contact {
+                c.gather(k, fk);
+            }
+            if let Some(b) = beam {
+                b.gather(k, fk);
+            }
+        };
+        if parallel(f.len()) {
+            f.par_iter_mut()
+                .enumerate()
+                .with_min_len(PARALLEL_GRAIN)
+                .for_each(gather);
+        } else {
+            f.iter_mut().enumerate().for_each(gather);
         }
         counts
     }
@@ -200,7 +228,7 @@ impl<const DAMP: bool, const FRIC: bool> OverlapContact<DAMP, FRIC> {
         }
     }
 
-    fn place(polys: &Polygons, i: usize, p: &mut Placed) {
+    fn place_one(polys: &Polygons, i: usize, p: &mut Placed) {
         p.n = polys.world_vertices(i, &mut p.v);
         let (mut lo, mut hi) = (p.v[0], p.v[0]);
         for v in &p.v[1..p.n] {
@@ -212,13 +240,13 @@ impl<const DAMP: bool, const FRIC: bool> OverlapContact<DAMP, FRIC> {
     }
 
     #[inline(always)]
-    fn pair(&self, polys: &Polygons, i: usize, j: usize) -> PairForce {
+    fn pair(&self, buffers: &mut ClipBuffers, polys: &Polygons, i: usize, j: usize) -> PairForce {
         let (a, b) = (&self.placed[i], &self.placed[j]);
         if a.hi.x < b.lo.x || b.hi.x < a.lo.x || a.hi.y < b.lo.y || b.hi.y < a.lo.y {
             return PairForce::default();
         }
         let (ci, cj) = (polys.centre(i), polys.centre(j));
-        let Some(o) = overlap(&a.v[..a.n], &b.v[..b.n], ci, cj) else {
+        let Some(o) = overlap_in(buffers, &a.v[..a.n], &b.v[..b.n], ci, cj) else {
             return PairForce::default();
         };
         let lc = characteristic_length(polys.equivalent_diameter[i], polys.equivalent_diameter[j]);
@@ -270,7 +298,7 @@ impl<const DAMP: bool, const FRIC: bool> ContactEffect for OverlapContact<DAMP, 
         self.pairs.builds
     }
 
-    fn accumulate(&mut self, polys: &Polygons, f: &mut [[f64; 3]]) -> usize {
+    fn place(&mut self, polys: &Polygons) {
         let n = polys.len();
         self.centres.resize(n, Vec3::zeros());
         for (c, q) in self.centres.iter_mut().zip(&polys.q) {
@@ -287,63 +315,60 @@ impl<const DAMP: bool, const FRIC: bool> ContactEffect for OverlapContact<DAMP, 
             self.out.resize(self.pairs.len(), PairForce::default());
         }
         self.placed.resize(n, Placed::default());
-        let mut placed = std::mem::take(&mut self.placed);
         if parallel(n) {
-            placed
+            self.placed
                 .par_iter_mut()
                 .enumerate()
                 .with_min_len(PARALLEL_GRAIN)
-                .for_each(|(i, p)| Self::place(polys, i, p));
+                .for_each(|(i, p)| Self::place_one(polys, i, p));
         } else {
-            for (i, p) in placed.iter_mut().enumerate() {
-                Self::place(polys, i, p);
+            for (i, p) in self.placed.iter_mut().enumerate() {
+                Self::place_one(polys, i, p);
             }
         }
-        self.placed = placed;
+    }
+
+    fn compute(&mut self, polys: &Polygons) -> usize {
         let mut out = std::mem::take(&mut self.out);
         {
             let this = &*self;
-            let kernel = |(s, o): (usize, &mut PairForce)| {
+            let kernel = |buffers: &mut ClipBuffers, (s, o): (usize, &mut PairForce)| {
                 let i = this.slot_row[s] as usize;
                 let j = this.pairs.partners[s] as usize;
-                *o = this.pair(polys, i, j);
+                *o = this.pair(buffers, polys, i, j);
             };
             if parallel(out.len()) {
                 out.par_iter_mut()
                     .enumerate()
                     .with_min_len(PARALLEL_GRAIN)
-                    .for_each(kernel);
+                    .for_each_init(ClipBuffers::default, kernel);
             } else {
-                out.iter_mut().enumerate().for_each(kernel);
+                let mut buffers = ClipBuffers::default();
+                for item in out.iter_mut().enumerate() {
+                    kernel(&mut buffers, item);
+                }
             }
         }
         self.out = out;
-        let pairs = &self.pairs;
-        let out = &self.out;
-        let gather = |(k, fk): (usize, &mut [f64; 3])| {
-            for s in pairs.row(k) {
-                let p = &out[s];
-                fk[0] -= p.force_j.x;
-                fk[1] -= p.force_j.y;
-                fk[2] += p.torque_i;
-            }
-            let t = pairs.t_offsets[k] as usize..pairs.t_offsets[k + 1] as usize;
-            for &s in &pairs.t_slots[t] {
-                let p = &out[s as usize];
-                fk[0] += p.force_j.x;
-                fk[1] += p.force_j.y;
-                fk[2] += p.torque_j;
-            }
-        };
-        if parallel(n) {
-            f.par_iter_mut()
-                .enumerate()
-                .with_min_len(PARALLEL_GRAIN)
-                .for_each(gather);
-        } else {
-            f.iter_mut().enumerate().for_each(gather);
-        }
         self.out.iter().filter(|p| p.touching).count()
+    }
+
+    #[inline]
+    fn gather(&self, k: usize, fk: &mut [f64; 3]) {
+        let (pairs, out) = (&self.pairs, &self.out);
+        for s in pairs.row(k) {
+            let p = &out[s];
+            fk[0] -= p.force_j.x;
+            fk[1] -= p.force_j.y;
+            fk[2] += p.torque_i;
+        }
+        let t = pairs.t_offsets[k] as usize..pairs.t_offsets[k + 1] as usize;
+        for &s in &pairs.t_slots[t] {
+            let p = &out[s as usize];
+            fk[0] += p.force_j.x;
+            fk[1] += p.force_j.y;
+            fk[2] += p.torque_j;
+        }
     }
 }
 
@@ -410,13 +435,7 @@ impl<const BREAK: bool> BeamEffect for BeamForces<BREAK> {
         s
     }
 
-    fn accumulate(
-        &mut self,
-        polys: &Polygons,
-        beams: &mut Beams,
-        time: f64,
-        f: &mut [[f64; 3]],
-    ) -> usize {
+    fn compute(&mut self, polys: &Polygons, beams: &mut Beams, time: f64) -> usize {
         let rule = self.rule;
         {
             let beams_ref = &*beams;
@@ -467,29 +486,22 @@ impl<const BREAK: bool> BeamEffect for BeamForces<BREAK> {
                 }
             }
         }
-        let (offsets, ends, out) = (&self.offsets, &self.ends, &self.out);
-        let gather = |(k, fk): (usize, &mut [f64; 3])| {
-            for &e in &ends[offsets[k] as usize..offsets[k + 1] as usize] {
-                let o = &out[(e >> 1) as usize];
-                if e & 1 == 0 {
-                    fk[0] -= o.force_j.x;
-                    fk[1] -= o.force_j.y;
-                    fk[2] += o.torque_i;
-                } else {
-                    fk[0] += o.force_j.x;
-                    fk[1] += o.force_j.y;
-                    fk[2] += o.torque_j;
-                }
-            }
-        };
-        if parallel(f.len()) {
-            f.par_iter_mut()
-                .enumerate()
-                .with_min_len(PARALLEL_GRAIN)
-                .for_each(gather);
-        } else {
-            f.iter_mut().enumerate().for_each(gather);
-        }
         broken
+    }
+
+    #[inline]
+    fn gather(&self, k: usize, fk: &mut [f64; 3]) {
+        for &e in &self.ends[self.offsets[k] as usize..self.offsets[k + 1] as usize] {
+            let o = &self.out[(e >> 1) as usize];
+            if e & 1 == 0 {
+                fk[0] -= o.force_j.x;
+                fk[1] -= o.force_j.y;
+                fk[2] += o.torque_i;
+            } else {
+                fk[0] += o.force_j.x;
+                fk[1] += o.force_j.y;
+                fk[2] += o.torque_j;
+            }
+        }
     }
 }

@@ -450,7 +450,7 @@ mod tests {
                     > 0.0
             );
         }
-        for i in 0..p.len() {
+        for (i, shared_i) in shared.iter().enumerate() {
             let n = p.world_vertices(i, &mut w);
             let perimeter: f64 = (0..n).map(|k| (w[(k + 1) % n] - w[k]).norm()).sum();
             let on_outline: f64 = (0..n)
@@ -464,7 +464,7 @@ mod tests {
                 .map(|k| (w[(k + 1) % n] - w[k]).norm())
                 .sum();
             assert!(
-                (perimeter - shared[i] - on_outline).abs() < 1e-12,
+                (perimeter - shared_i - on_outline).abs() < 1e-12,
                 "polygon {i}"
             );
             assert_eq!(on_outline > 0.0, s.outline[i] != 0, "polygon {i}");
@@ -519,8 +519,8 @@ mod tests {
             }
         }
         let pixel = 0.06 * 0.05 / (m * m) as f64;
-        for k in 0..sites.len() {
-            let raster = counts[k] as f64 * pixel;
+        for (k, &count) in counts.iter().enumerate() {
+            let raster = count as f64 * pixel;
             assert!(
                 (raster - s.polygons.area[k]).abs() < 0.02 * 1e-4,
                 "cell {k}: {raster} vs {}",

@@ -134,9 +134,9 @@ impl<const N: usize> TaggedPolygon<N> {
         let n = self.len;
         let mut d = [0.0; N];
         let mut outside = 0;
-        for k in 0..n {
-            d[k] = normal.dot(&self.v[k]) - offset;
-            outside += (d[k] > 0.0) as usize;
+        for (dk, v) in d.iter_mut().zip(&self.v[..n]) {
+            *dk = normal.dot(v) - offset;
+            outside += (*dk > 0.0) as usize;
         }
         if outside == 0 {
             return false;
