@@ -140,17 +140,7 @@ fn moduli() -> Plot {
         .x_label_formatter(&|v| format!("{:.1}", v / 1e9))
         .y_label_formatter(&|v| format!("{:.1}", v / 1e9))
         .draw()?;
-    for (k, color, label) in [(1, RED, "compression"), (0, BLUE, "elongation")] {
-        let p: Vec<(f64, f64)> = rows
-            .iter()
-            .map(|r| (r.0, if k == 1 { r.2 } else { r.1 }))
-            .collect();
-        chart
-            .draw_series(LineSeries::new(p.clone(), &color))?
-            .label(label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
-        chart.draw_series(p.iter().map(|q| Circle::new(*q, 3, color.filled())))?;
-    }
+    both_phases(&mut chart, &rows, |r| [r.2, r.1])?;
     chart
         .draw_series(LineSeries::new(
             vec![(0.0, 1e9), (4.2e9, 1e9)],
@@ -184,17 +174,7 @@ fn moduli() -> Plot {
         .y_desc("nu")
         .x_label_formatter(&|v| format!("{}", v / 1e9))
         .draw()?;
-    for (k, color, label) in [(1, RED, "compression"), (0, BLUE, "elongation")] {
-        let p: Vec<(f64, f64)> = rows
-            .iter()
-            .map(|r| (r.0, if k == 1 { r.4 } else { r.3 }))
-            .collect();
-        chart
-            .draw_series(LineSeries::new(p.clone(), &color))?
-            .label(label)
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
-        chart.draw_series(p.iter().map(|q| Circle::new(*q, 3, color.filled())))?;
-    }
+    both_phases(&mut chart, &rows, |r| [r.4, r.3])?;
     chart
         .configure_series_labels()
         .background_style(WHITE)
@@ -234,6 +214,31 @@ fn moduli() -> Plot {
         chart.draw_series(p.iter().map(|q| Circle::new(*q, 2, color.filled())))?;
     }
     root.present()?;
+    Ok(())
+}
+
+/// A moduli row: E, K elongation, K compression, ν elongation, ν compression.
+type Row = (f64, f64, f64, f64, f64);
+
+/// Draws `pick(row)` = [compression, elongation] against E as two labelled series.
+fn both_phases<DB, X>(
+    chart: &mut ChartContext<'_, DB, Cartesian2d<X, plotters::coord::types::RangedCoordf64>>,
+    rows: &[Row],
+    pick: impl Fn(&Row) -> [f64; 2],
+) -> Plot
+where
+    DB: DrawingBackend,
+    DB::ErrorType: 'static,
+    X: Ranged<ValueType = f64>,
+{
+    for (k, color, label) in [(0, RED, "compression"), (1, BLUE, "elongation")] {
+        let p: Vec<(f64, f64)> = rows.iter().map(|r| (r.0, pick(r)[k])).collect();
+        chart
+            .draw_series(LineSeries::new(p.clone(), color))?
+            .label(label)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], color));
+        chart.draw_series(p.iter().map(|q| Circle::new(*q, 3, color.filled())))?;
+    }
     Ok(())
 }
 

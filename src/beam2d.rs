@@ -37,6 +37,15 @@ use crate::shape::polygon::Vec2;
 use crate::simulation::{on_threads, thread_pool};
 use crate::state::polygons::Polygons;
 
+/// The effects of the beam2d model, in evaluation order.
+pub const BEAM2D_EFFECTS: [EffectKind; 5] = [
+    EffectKind::Contact,
+    EffectKind::Damping,
+    EffectKind::Friction,
+    EffectKind::Beams,
+    EffectKind::BeamBreaking,
+];
+
 /// The integrator of a beam2d run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum Integrator2d {
@@ -837,28 +846,13 @@ pub fn explain(scene: &Scene) -> Result<String> {
         p.thickness.unwrap_or(1.0)
     );
     let pipeline = PolygonPipeline::build(scene, &Polygons::default(), &Beams::default(), 0.0);
-    let _ = writeln!(s, "force pipeline, in evaluation order:");
-    let lines = pipeline.describe();
-    if lines.is_empty() {
-        let _ = writeln!(s, "  (empty: polygons move freely)");
-    }
-    for (k, line) in lines.iter().enumerate() {
-        let _ = writeln!(s, "  {}. {line}", k + 1);
-    }
-    let left_out: Vec<&str> = [
-        EffectKind::Contact,
-        EffectKind::Damping,
-        EffectKind::Friction,
-        EffectKind::Beams,
-        EffectKind::BeamBreaking,
-    ]
-    .iter()
-    .filter(|e| !scene.has_effect(**e))
-    .map(|e| e.as_str())
-    .collect();
-    if !left_out.is_empty() {
-        let _ = writeln!(s, "not built (not in `effects`): {}", left_out.join(", "));
-    }
+    crate::explain::write_pipeline(
+        &mut s,
+        scene,
+        &pipeline.describe(),
+        &BEAM2D_EFFECTS,
+        "polygons move freely",
+    );
     let l = &scene.loading;
     let loading = match l.kind {
         LoadingKind::ElasticModuli => format!(

@@ -28,21 +28,13 @@ pub fn explain(scene: &Scene) -> Result<String> {
     );
     let _ = writeln!(s, "model: granular, spheres with Hertz–Mindlin contacts");
     let _ = writeln!(s, "sample: {}", describe_sample(scene));
-    let _ = writeln!(s, "force pipeline, in evaluation order:");
-    if pipeline.effects.is_empty() {
-        let _ = writeln!(s, "  (empty: bodies move freely)");
-    }
-    for (k, line) in pipeline.describe().iter().enumerate() {
-        let _ = writeln!(s, "  {}. {line}", k + 1);
-    }
-    let left_out: Vec<&str> = ALL_EFFECTS
-        .iter()
-        .filter(|e| !scene.has_effect(**e))
-        .map(|e| e.as_str())
-        .collect();
-    if !left_out.is_empty() {
-        let _ = writeln!(s, "not built (not in `effects`): {}", left_out.join(", "));
-    }
+    write_pipeline(
+        &mut s,
+        scene,
+        &pipeline.describe(),
+        &ALL_EFFECTS,
+        "bodies move freely",
+    );
     let l = &scene.loading;
     let loading = match l.kind {
         LoadingKind::None => format!(
@@ -80,6 +72,32 @@ pub fn explain(scene: &Scene) -> Result<String> {
         scene.output.every
     );
     Ok(s)
+}
+
+/// The force pipeline's lines in evaluation order, then those of the model's effects `all`
+/// that the scene leaves out.
+pub(crate) fn write_pipeline(
+    s: &mut String,
+    scene: &Scene,
+    lines: &[String],
+    all: &[EffectKind],
+    empty: &str,
+) {
+    let _ = writeln!(s, "force pipeline, in evaluation order:");
+    if lines.is_empty() {
+        let _ = writeln!(s, "  (empty: {empty})");
+    }
+    for (k, line) in lines.iter().enumerate() {
+        let _ = writeln!(s, "  {}. {line}", k + 1);
+    }
+    let left_out: Vec<&str> = all
+        .iter()
+        .filter(|e| !scene.has_effect(**e))
+        .map(|e| e.as_str())
+        .collect();
+    if !left_out.is_empty() {
+        let _ = writeln!(s, "not built (not in `effects`): {}", left_out.join(", "));
+    }
 }
 
 fn describe_sample(scene: &Scene) -> String {

@@ -159,6 +159,18 @@ fn five_seeds(file: &'static str) -> Vec<Beam2dRun> {
     runs
 }
 
+/// β of the fragment mass histogram averaged over seeds 1 to 5 of a fragmentation scene.
+fn averaged_beta(runs: &[Beam2dRun], label: &str) -> f64 {
+    let refs: Vec<&Beam2dRun> = runs.iter().collect();
+    let fit = averaged_power_law(&refs).unwrap();
+    let per_seed: Vec<f64> = runs
+        .iter()
+        .map(|r| r.power_law().unwrap().exponent)
+        .collect();
+    eprintln!("{label}: beta of the averaged histogram {fit:?}; per seed {per_seed:?}");
+    fit.exponent
+}
+
 #[test]
 fn explosion_fragment_masses_follow_a_power_law_with_beta_near_two() {
     let runs = five_seeds("explosion_disc.toml");
@@ -174,29 +186,16 @@ fn explosion_fragment_masses_follow_a_power_law_with_beta_near_two() {
         assert!((number(&s, "kinetic_energy_initial") / 500.0 - 1.0).abs() < 1e-12);
         assert!(r.polygons.momentum().norm() < 1e-9 * r.momentum_scale);
     }
-    let refs: Vec<&Beam2dRun> = runs.iter().collect();
-    let fit = averaged_power_law(&refs).unwrap();
-    let per_seed: Vec<f64> = runs
-        .iter()
-        .map(|r| r.power_law().unwrap().exponent)
-        .collect();
-    eprintln!("explosion: beta of the averaged histogram {fit:?}; per seed {per_seed:?}");
     // The paper: beta = 2.0 +- 0.05.
-    assert!((fit.exponent - 2.0).abs() <= 0.2, "beta = {}", fit.exponent);
+    let beta = averaged_beta(&runs, "explosion");
+    assert!((beta - 2.0).abs() <= 0.2, "beta = {beta}");
 }
 
 #[test]
 fn impact_fragment_masses_follow_a_power_law_with_beta_near_two() {
-    let runs = five_seeds("impact_block.toml");
-    let refs: Vec<&Beam2dRun> = runs.iter().collect();
-    let fit = averaged_power_law(&refs).unwrap();
-    let per_seed: Vec<f64> = runs
-        .iter()
-        .map(|r| r.power_law().unwrap().exponent)
-        .collect();
-    eprintln!("impact: beta of the averaged histogram {fit:?}; per seed {per_seed:?}");
     // The paper: beta = 1.98 +- 0.05.
-    assert!((fit.exponent - 2.0).abs() <= 0.2, "beta = {}", fit.exponent);
+    let beta = averaged_beta(&five_seeds("impact_block.toml"), "impact");
+    assert!((beta - 2.0).abs() <= 0.2, "beta = {beta}");
 }
 
 #[test]
@@ -333,16 +332,6 @@ fn small_explosion(dir: &Path, out: &str, extra: &[&str]) -> std::path::PathBuf 
     out
 }
 
-/// A result file without the summary's `wall_seconds` line.
-fn without_timing(p: &Path) -> String {
-    fs::read_to_string(p)
-        .unwrap()
-        .lines()
-        .filter(|l| !l.contains("\"wall_seconds\""))
-        .collect::<Vec<_>>()
-        .join("\n")
-}
-
 #[test]
 fn runs_repeat_bit_for_bit_on_any_thread_count_and_resume_exactly() {
     let dir = tempfile::tempdir().unwrap();
@@ -372,21 +361,21 @@ fn runs_repeat_bit_for_bit_on_any_thread_count_and_resume_exactly() {
         "fragments.csv",
         "fragment_histogram.csv",
     ] {
-        let reference = without_timing(&a.join(file));
+        let reference = common::without_wall_seconds(&a.join(file));
         assert_eq!(
             reference,
-            without_timing(&b.join(file)),
+            common::without_wall_seconds(&b.join(file)),
             "{file}: repeated run"
         );
         // Every force is summed per polygon in one fixed order whatever the thread count.
         assert_eq!(
             reference,
-            without_timing(&c.join(file)),
+            common::without_wall_seconds(&c.join(file)),
             "{file}: two threads"
         );
         assert_eq!(
             reference,
-            without_timing(&resumed.join(file)),
+            common::without_wall_seconds(&resumed.join(file)),
             "{file}: resumed"
         );
     }

@@ -2,15 +2,8 @@
 
 use super::validate::{Range, check, require};
 use super::{EffectKind, IntegratorKind, LoadingKind, ModelKind, Outline, SampleKind, Scene};
+use crate::beam2d::BEAM2D_EFFECTS;
 use crate::error::Result;
-
-const BEAM2D_EFFECTS: [EffectKind; 5] = [
-    EffectKind::Contact,
-    EffectKind::Damping,
-    EffectKind::Friction,
-    EffectKind::Beams,
-    EffectKind::BeamBreaking,
-];
 
 fn is_beam2d_loading(kind: LoadingKind) -> bool {
     matches!(
