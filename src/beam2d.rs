@@ -189,7 +189,7 @@ impl Beam2dRun {
         let pool = thread_pool(threads)?;
         let mut sample = lattice2d::from_scene(&scene)?;
         progress(&format!(
-            "{} polygons ({} vertices on average), {} shared sides",
+            "{} polygons ({:.2} vertices on average), {} shared sides",
             sample.info.polygons, sample.info.mean_vertices, sample.info.shared_sides
         ));
         let mean_polygon_mass = sample.polygons.total_mass() / sample.polygons.len() as f64;
@@ -223,6 +223,11 @@ impl Beam2dRun {
         run.mean_polygon_mass = mean_polygon_mass;
         run.dt_critical = dt_critical;
         run.start = start;
+        if dt > dt_critical {
+            run.warnings.push(format!(
+                "time.dt = {dt:e} s exceeds the estimated stability limit {dt_critical:e} s of the stiffest polygon; the run may blow up"
+            ));
+        }
         run.momentum0 = run.polygons.momentum();
         run.momentum_scale = run.polygons.momentum_scale();
         run.initial_kinetic_energy = run.polygons.kinetic_energy();

@@ -52,7 +52,6 @@ trait ContactEffect: Send + Sync {
     fn compute(&mut self, polys: &Polygons) -> usize;
     /// Adds polygon k's pair forces to `fk`.
     fn gather(&self, k: usize, fk: &mut [f64; 3]);
-    fn rebuilds(&self) -> u64;
 }
 
 /// The beams effect, with or without breaking.
@@ -167,11 +166,6 @@ impl PolygonPipeline {
             lines.push(b.describe());
         }
         lines
-    }
-
-    /// Neighbour list builds so far (0 without contacts).
-    pub fn neighbour_builds(&self) -> u64 {
-        self.contact.as_ref().map_or(0, |c| c.rebuilds())
     }
 }
 
@@ -292,10 +286,6 @@ impl<const DAMP: bool, const FRIC: bool> ContactEffect for OverlapContact<DAMP, 
             ));
         }
         s
-    }
-
-    fn rebuilds(&self) -> u64 {
-        self.pairs.builds
     }
 
     fn place(&mut self, polys: &Polygons) {

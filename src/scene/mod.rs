@@ -441,7 +441,7 @@ pub struct FragmentSpec {
 }
 
 fn default_fit_range() -> [f64; 2] {
-    [2.0, 50.0]
+    [2.0, 20.0]
 }
 
 fn default_bins_per_decade() -> u32 {
