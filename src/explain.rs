@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use crate::effects::Pipeline;
 use crate::error::Result;
-use crate::scene::{DtSpec, EffectKind, LoadingKind, SampleKind, Scene};
+use crate::scene::{DtSpec, EffectKind, LoadingKind, ModelKind, SampleKind, Scene};
 
 const ALL_EFFECTS: [EffectKind; 7] = [
     EffectKind::Contact,
@@ -19,6 +19,9 @@ const ALL_EFFECTS: [EffectKind; 7] = [
 /// A human-readable account of the scene: sample, force pipeline (and what is left out),
 /// loading, time step and outputs.
 pub fn explain(scene: &Scene) -> Result<String> {
+    if scene.model.kind == ModelKind::Beam2d {
+        return crate::beam2d::explain(scene);
+    }
     let pipeline = Pipeline::build(scene)?;
     let mut s = String::new();
     let _ = writeln!(
@@ -28,21 +31,13 @@ pub fn explain(scene: &Scene) -> Result<String> {
     );
     let _ = writeln!(s, "model: granular, spheres with Hertz–Mindlin contacts");
     let _ = writeln!(s, "sample: {}", describe_sample(scene));
-    let _ = writeln!(s, "force pipeline, in evaluation order:");
-    if pipeline.effects.is_empty() {
-        let _ = writeln!(s, "  (empty: bodies move freely)");
-    }
-    for (k, line) in pipeline.describe().iter().enumerate() {
-        let _ = writeln!(s, "  {}. {line}", k + 1);
-    }
-    let left_out: Vec<&str> = ALL_EFFECTS
-        .iter()
-        .filter(|e| !scene.has_effect(**e))
-        .map(|e| e.as_str())
-        .collect();
-    if !left_out.is_empty() {
-        let _ = writeln!(s, "not built (not in `effects`): {}", left_out.join(", "));
-    }
+    write_pipeline(
+        &mut s,
+        scene,
+        &pipeline.describe(),
+        &ALL_EFFECTS,
+        "bodies move freely",
+    );
     let l = &scene.loading;
     let loading = match l.kind {
         LoadingKind::None => format!(
@@ -59,6 +54,11 @@ pub fn explain(scene: &Scene) -> Result<String> {
             l.speed.unwrap_or_default(),
             l.end_displacement.unwrap_or_default()
         ),
+        // Validation keeps beam2d loadings out of granular scenes; beam2d explains itself.
+        LoadingKind::ElasticModuli
+        | LoadingKind::ConfinedCompression
+        | LoadingKind::Explosion
+        | LoadingKind::Projectile => format!("{} (model.kind = \"beam2d\")", l.kind.as_str()),
     };
     let _ = writeln!(s, "loading: {loading}");
     let dt = match scene.time.dt {
@@ -80,6 +80,32 @@ pub fn explain(scene: &Scene) -> Result<String> {
         scene.output.every
     );
     Ok(s)
+}
+
+/// The force pipeline's lines in evaluation order, then those of the model's effects `all`
+/// that the scene leaves out.
+pub(crate) fn write_pipeline(
+    s: &mut String,
+    scene: &Scene,
+    lines: &[String],
+    all: &[EffectKind],
+    empty: &str,
+) {
+    let _ = writeln!(s, "force pipeline, in evaluation order:");
+    if lines.is_empty() {
+        let _ = writeln!(s, "  (empty: {empty})");
+    }
+    for (k, line) in lines.iter().enumerate() {
+        let _ = writeln!(s, "  {}. {line}", k + 1);
+    }
+    let left_out: Vec<&str> = all
+        .iter()
+        .filter(|e| !scene.has_effect(**e))
+        .map(|e| e.as_str())
+        .collect();
+    if !left_out.is_empty() {
+        let _ = writeln!(s, "not built (not in `effects`): {}", left_out.join(", "));
+    }
 }
 
 fn describe_sample(scene: &Scene) -> String {
@@ -121,5 +147,8 @@ fn describe_sample(scene: &Scene) -> String {
             p.semi_axes.unwrap_or_default(),
             p.box_size.map(|b| [b[0], b[1]]).unwrap_or_default()
         ),
+        SampleKind::VectorizableRandomLattice => {
+            "vectorizable random lattice (model.kind = \"beam2d\")".to_string()
+        }
     }
 }

@@ -7,14 +7,16 @@
 //! summary.json, VTK snapshots and checkpoints for any run.
 //! SI units throughout. See docs/architecture.md for the map of the code.
 
+pub mod beam2d;
 pub mod bench;
+pub mod bond;
 pub mod contact;
 pub mod driver;
 pub mod effects;
 pub mod error;
 pub mod explain;
-pub mod fracture;
 pub mod export;
+pub mod fracture;
 pub mod integrate;
 pub mod loading;
 pub mod output;

@@ -15,11 +15,11 @@ use serde_json::Value;
 use crate::effects::{Pipeline, StepContext};
 use crate::error::{Error, Result};
 use crate::fracture::GrainFracture;
-use crate::probe::energy::{EnergyAccount, Mechanical};
-use crate::probe::size_distribution;
 use crate::integrate::{VelocityVerlet, rayleigh_time_step};
 use crate::loading::Loading;
 use crate::output::vtk;
+use crate::probe::energy::{EnergyAccount, Mechanical};
+use crate::probe::size_distribution;
 use crate::probe::{self, Series};
 use crate::run::{self, Run};
 use crate::sample::{self, Sample, SampleInfo};
@@ -82,7 +82,7 @@ pub struct RunState {
 }
 
 /// The step at which a loading of `end_time` seconds ends (unbounded for an endless one).
-fn end_step(end_time: f64, dt: f64) -> u64 {
+pub(crate) fn end_step(end_time: f64, dt: f64) -> u64 {
     if end_time.is_finite() {
         (end_time / dt - 1e-9).ceil().max(1.0) as u64
     } else {
@@ -106,7 +106,7 @@ const OMEGA_DT_WARN: f64 = 1.6;
 
 /// A pool of `threads` workers (0: one per core), or none for a single thread: then the run
 /// stays on the caller's thread and never hands work across threads.
-fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
+pub(crate) fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
     let threads = if threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
@@ -123,7 +123,10 @@ fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
 }
 
 /// Runs `f` on the pool's threads, or right here without one.
-fn on_threads<R: Send>(pool: &Option<Arc<rayon::ThreadPool>>, f: impl FnOnce() -> R + Send) -> R {
+pub(crate) fn on_threads<R: Send>(
+    pool: &Option<Arc<rayon::ThreadPool>>,
+    f: impl FnOnce() -> R + Send,
+) -> R {
     match pool {
         Some(p) => p.install(f),
         None => f(),
@@ -393,8 +396,13 @@ impl Simulation {
         }
         let before = self.mechanical_energy();
         let fracture = self.fracture.as_mut().expect("checked above");
-        let pending =
-            fracture.split(&mut self.bodies, &self.forces, breaking, self.step, self.time);
+        let pending = fracture.split(
+            &mut self.bodies,
+            &self.forces,
+            breaking,
+            self.step,
+            self.time,
+        );
         if !pending.is_empty() {
             self.forces = Forces::new(self.bodies.len());
             self.evaluate_forces(false);
@@ -440,10 +448,7 @@ impl Simulation {
             .report_strains
             .clone()
             .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]);
-        strains
-            .into_iter()
-            .filter(|&e| e <= end + 1e-12)
-            .collect()
+        strains.into_iter().filter(|&e| e <= end + 1e-12).collect()
     }
 
     /// The masses of the pieces (grains and fragments held by intact springs), at the start
@@ -652,7 +657,8 @@ impl Simulation {
         m.insert("broken_particles".into(), f.broken_particles().into());
         m.insert("fragments".into(), f.fragments(n).into());
         m.insert("particles_final".into(), n.into());
-        let by = |c: crate::fracture::Criterion| f.events.iter().filter(|e| e.criterion == c).count();
+        let by =
+            |c: crate::fracture::Criterion| f.events.iter().filter(|e| e.criterion == c).count();
         m.insert(
             "splits".into(),
             json!({
@@ -731,8 +737,7 @@ impl Simulation {
                     .collect()
             })
             .collect();
-        let sieves =
-            size_distribution::sieve_sizes(curves.iter().flatten().map(|p| p.1), 40);
+        let sieves = size_distribution::sieve_sizes(curves.iter().flatten().map(|p| p.1), 40);
         let passing: Vec<Vec<f64>> = curves
             .iter()
             .map(|c| size_distribution::passing(c, &sieves))

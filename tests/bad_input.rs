@@ -144,3 +144,92 @@ fn a_good_scene_passes_these_checks() {
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(Path::new(&file).exists());
 }
+
+// beam2d: its keys, and keys that belong to one model only.
+
+fn beam2d_base() -> String {
+    std::fs::read_to_string(common::repo().join("scenes/explosion_disc.toml")).unwrap()
+}
+
+#[test]
+fn beam2d_keys_name_their_ranges() {
+    let b = beam2d_base();
+    fails(
+        &b,
+        &["--set", "sample.disorder=0.02"],
+        &["sample.disorder", "0.02", "[0, 0.0108]"],
+    );
+    fails(
+        &replace(&b, "beam_young = 5e8", "beam_young = -5e8"),
+        &[],
+        &["material.beam_young", "(0, ∞)", "Pa"],
+    );
+    fails(
+        &replace(&b, "beam_young = 5e8                     # E (Pa)\n", ""),
+        &[],
+        &["material.beam_young", "required", "beams"],
+    );
+    fails(
+        &b,
+        &["--set", "material.beam_bending_threshold=0"],
+        &["material.beam_bending_threshold", "(0, ∞)", "rad"],
+    );
+    fails(
+        &b,
+        &["--set", "fragments.fit_range=[20.0, 2.0]"],
+        &["fragments.fit_range", "must exceed"],
+    );
+    fails(
+        &b,
+        &["--set", "loading.quiet_steps=0"],
+        &["loading.quiet_steps", "[1, ∞)"],
+    );
+    fails(
+        &b,
+        &["--set", "sample.diameter=0.02"],
+        &["sample.diameter", "three lattice spacings"],
+    );
+}
+
+#[test]
+fn beam2d_combinations_that_do_not_go_together() {
+    let b = beam2d_base();
+    fails(
+        &b,
+        &["--set", "effects=[\"beam_breaking\"]"],
+        &["effects", "beam_breaking", "without \"beams\""],
+    );
+    fails(
+        &b,
+        &["--set", "effects=[\"beams\", \"gravity\"]"],
+        &["effects", "gravity", "beam2d"],
+    );
+    fails(
+        &b,
+        &[
+            "--set",
+            "loading.kind=\"projectile\"",
+            "--set",
+            "loading.speed=400",
+        ],
+        &["sample.outline", "disc", "rectangle"],
+    );
+    fails(
+        &b,
+        &["--set", "loading.kind=\"oedometer\""],
+        &["loading.kind", "oedometer", "beam2d", "explosion"],
+    );
+    fails(
+        &b,
+        &["--set", "model.kind=\"granular\""],
+        &["sample.kind", "vectorizable_random_lattice", "granular"],
+    );
+    // A sphere scene asked for Gear's integrator, or for a Poisson's ratio it lacks.
+    fails(
+        &base(),
+        &["--set", "time.integrator=\"gear5\""],
+        &["time.integrator", "gear5", "beam2d"],
+    );
+    let t = replace(&base(), "poisson = 0.17\n", "");
+    fails(&t, &[], &["material.poisson", "required", "granular"]);
+}

@@ -82,7 +82,11 @@ fn sphere_under_uniaxial_load_breaks_by_hoek_brown_at_sigma_c() {
     let above = check(&sim, &pressed(&dirs, f_c * (1.0 + 1e-9), a));
     assert_eq!(above.len(), 1);
     assert_eq!(above[0].2, Criterion::HoekBrown);
-    assert!((above[0].3 / SIGMA_C - 1.0).abs() < 1e-8, "σ1 = {}", above[0].3);
+    assert!(
+        (above[0].3 / SIGMA_C - 1.0).abs() < 1e-8,
+        "σ1 = {}",
+        above[0].3
+    );
     // The break plane contains the load axis: its normal is perpendicular to z.
     let Trigger::HoekBrown { stress } = above[0].1 else {
         panic!("Hoek–Brown trigger");
@@ -185,8 +189,7 @@ fn split_conserves_mass_and_halves_accelerate_as_the_parent() {
         b.vel[0] = Vec3::new(0.1, 0.0, -0.2);
         b.omega[0] = q * omega;
         let mut sim =
-            Simulation::from_sample(scene.clone(), common::sample(b, Walls::default()), 1)
-                .unwrap();
+            Simulation::from_sample(scene.clone(), common::sample(b, Walls::default()), 1).unwrap();
         let (x_p, w) = (sim.bodies.pos[0], sim.bodies.omega[0]);
         let a_p = sim.forces.force[0] / mass;
         assert!((a_p - Vec3::new(0.0, 0.0, -9.81)).norm() < 1e-12);
@@ -194,7 +197,8 @@ fn split_conserves_mass_and_halves_accelerate_as_the_parent() {
         // Break along the grain's x axis (a Hoek–Brown stress most tensile along it).
         let x = sim.bodies.shape_placement(0).1 * Vec3::x();
         let stress = x * x.transpose() * 1e8;
-        let made = sim.break_grains(&[(0, Trigger::HoekBrown { stress }, Criterion::HoekBrown, 0.0)]);
+        let made =
+            sim.break_grains(&[(0, Trigger::HoekBrown { stress }, Criterion::HoekBrown, 0.0)]);
         assert_eq!(made, 1);
         let b = &sim.bodies;
         assert_eq!(b.len(), 2);
@@ -233,7 +237,12 @@ fn breaking_a_spring_injects_no_energy() {
     let mut b = Bodies::default();
     let gap = 0.1e-3;
     for x in [-(R + 0.5 * gap), R + 0.5 * gap] {
-        b.push_sphere(Vec3::new(x, 0.0, 0.0), R, 2650.0, UnitQuaternion::identity());
+        b.push_sphere(
+            Vec3::new(x, 0.0, 0.0),
+            R,
+            2650.0,
+            UnitQuaternion::identity(),
+        );
     }
     let mut sim = Simulation::from_sample(scene, common::sample(b, Walls::default()), 1).unwrap();
     let gc = cohesive_energy(1.77e6, 60e9, 0.17);
@@ -280,7 +289,10 @@ fn breaking_a_spring_injects_no_energy() {
         last = k;
     }
     let jump = jump.expect("the spring broke");
-    println!("break step: ΔK = {jump:e} J, stored {stored:e} J; spent {:e}", k0 - sim.bodies.kinetic_energy());
+    println!(
+        "break step: ΔK = {jump:e} J, stored {stored:e} J; spent {:e}",
+        k0 - sim.bodies.kinetic_energy()
+    );
     assert!(
         jump.abs() < 0.01 * stored,
         "kinetic energy jumped by {jump:e} J at the break, {:.3}% of the stored {stored:e} J",
@@ -288,7 +300,13 @@ fn breaking_a_spring_injects_no_energy() {
     );
     // The energy spent in fracture is G_c A (Eq. 36), taken from the halves' motion.
     let spent = k0 - sim.bodies.kinetic_energy();
-    assert!((spent / stored - 1.0).abs() < 0.01, "spent {spent:e} J of {stored:e} J");
+    assert!(
+        (spent / stored - 1.0).abs() < 0.01,
+        "spent {spent:e} J of {stored:e} J"
+    );
     let work = sim.fracture.as_ref().unwrap().spring_work;
-    assert!((-work / stored - 1.0).abs() < 0.01, "spring work {work:e} J");
+    assert!(
+        (-work / stored - 1.0).abs() < 0.01,
+        "spring work {work:e} J"
+    );
 }

@@ -9,4 +9,6 @@
 pub mod convex;
 pub mod hertz_mindlin;
 pub mod neighbor;
+// beam2d: the overlap-area law between polygons (Eq. 2-6).
+pub mod overlap_area_2d;
 pub mod restitution;

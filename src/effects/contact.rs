@@ -406,11 +406,8 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         };
         if POLY && !(bodies.shape[i].is_sphere() && bodies.shape[j].is_sphere()) {
             let guess = if *nrm == Vec3::zeros() { d } else { *nrm };
-            let Some(g) = convex::contact(
-                &self.placed(bodies, i),
-                &self.placed(bodies, j),
-                &guess,
-            ) else {
+            let Some(g) = convex::contact(&self.placed(bodies, i), &self.placed(bodies, j), &guess)
+            else {
                 if FRIC {
                     *hist = Vec3::zeros();
                 }
@@ -488,11 +485,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             for s in self.pairs.row(i) {
                 let j = self.pairs.partners[s] as usize;
                 let h = if FRIC { &mut hist[s] } else { &mut dummy };
-                let nrm = if POLY {
-                    &mut normals[s]
-                } else {
-                    &mut dummy_n
-                };
+                let nrm = if POLY { &mut normals[s] } else { &mut dummy_n };
                 if let Some(p) = self.pair_force(bodies, i, j, h, nrm, ctx) {
                     forces.force[i] += p.force;
                     forces.force[j] -= p.force;

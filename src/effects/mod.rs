@@ -7,6 +7,8 @@
 
 pub mod contact;
 pub mod gravity;
+// beam2d: the polygon contact and beam forces.
+pub mod polygon2d;
 
 use crate::error::{Error, Result};
 use crate::scene::{EffectKind, Scene};

@@ -201,14 +201,20 @@ mod tests {
     fn poorly_shaped_cases() {
         let t = uniaxial_z();
         // (2) three bad ratios: never.
-        assert_eq!(break_axis(&[1.0, 0.1, 1.0, 0.1, 1.0, 0.1], &axes(), &t), None);
+        assert_eq!(
+            break_axis(&[1.0, 0.1, 1.0, 0.1, 1.0, 0.1], &axes(), &t),
+            None
+        );
         // (3) a and b bad, c long: break along the xy plane (normal z), whatever the stress.
         assert_eq!(
             break_axis(&[1.0, 0.1, 1.0, 0.1, 1.0, 1.0], &axes(), &t),
             Some(2)
         );
         // (4) a and b bad, c short: never.
-        assert_eq!(break_axis(&[1.0, 0.1, 1.0, 0.1, 0.5, 0.5], &axes(), &t), None);
+        assert_eq!(
+            break_axis(&[1.0, 0.1, 1.0, 0.1, 0.5, 0.5], &axes(), &t),
+            None
+        );
         // (5) a bad: b much longer -> xz plane (normal y); c much longer -> xy (normal z).
         assert_eq!(
             break_axis(&[1.0, 0.1, 1.5, 1.5, 1.0, 1.0], &axes(), &t),

@@ -126,8 +126,16 @@ pub fn spring_layout(semi: &[f64; 6], k: usize, ns: usize) -> (Vec<Vec3>, f64) {
         .map(|j| {
             let t = std::f64::consts::TAU * (j as f64 + 0.5) / ns as f64;
             let (s, c) = t.sin_cos();
-            let su = if c >= 0.0 { semi[2 * u] } else { semi[2 * u + 1] };
-            let sv = if s >= 0.0 { semi[2 * v] } else { semi[2 * v + 1] };
+            let su = if c >= 0.0 {
+                semi[2 * u]
+            } else {
+                semi[2 * u + 1]
+            };
+            let sv = if s >= 0.0 {
+                semi[2 * v]
+            } else {
+                semi[2 * v + 1]
+            };
             let mut p = Vec3::zeros();
             p[u] = 0.5 * su * c;
             p[v] = 0.5 * sv * s;

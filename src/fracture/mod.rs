@@ -286,15 +286,15 @@ impl GrainFracture {
         critical.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
         let mut out = Vec::new();
         let mut c = 0;
-        for i in 0..n {
+        for (i, m) in moment.iter().enumerate() {
             let start = c;
             while c < critical.len() && critical[c].0 as usize == i {
                 c += 1;
             }
-            if self.bonds[i] != 0 || moment[i] == Matrix3::zeros() {
+            if self.bonds[i] != 0 || *m == Matrix3::zeros() {
                 continue;
             }
-            let stress = self.average_stress(bodies, forces, i, &moment[i]);
+            let stress = self.average_stress(bodies, forces, i, m);
             let [s1, _, s3] = criteria::principal_compression_values(&stress);
             if criteria::hoek_brown_fails(s1, s3, p.sigma_c * self.strength[i], p.mi) {
                 out.push((i, Trigger::HoekBrown { stress }, Criterion::HoekBrown, s1));
@@ -304,7 +304,12 @@ impl GrainFracture {
             if crit.len() >= p.critical_contacts {
                 let pts: Vec<Vec3> = crit.iter().take(3).map(|x| x.2).collect();
                 if let Some(normal) = break_plane::contacts_plane_normal(&pts) {
-                    out.push((i, Trigger::Contacts { normal }, Criterion::Contacts, crit[0].1));
+                    out.push((
+                        i,
+                        Trigger::Contacts { normal },
+                        Criterion::Contacts,
+                        crit[0].1,
+                    ));
                 }
             }
         }
@@ -313,7 +318,13 @@ impl GrainFracture {
 
     /// The average stress of body i (Eq. 8–13) from its contact moment `Σ f ⊗ x` and its
     /// motion: the angular acceleration from the torque of `forces`.
-    fn average_stress(&self, bodies: &Bodies, forces: &Forces, i: usize, moment: &Matrix3<f64>) -> Matrix3<f64> {
+    fn average_stress(
+        &self,
+        bodies: &Bodies,
+        forces: &Forces,
+        i: usize,
+        moment: &Matrix3<f64>,
+    ) -> Matrix3<f64> {
         let rot = bodies.orientation[i].to_rotation_matrix().into_inner();
         let mass_moment = criteria::mass_moment(&bodies.inertia[i], &rot);
         let alpha = angular_acceleration(bodies, forces, i);
@@ -403,7 +414,8 @@ impl GrainFracture {
         let semi = bodies.shape[i].semi_axes(bodies.radius[i]);
         let sphere = bodies.shape[i].is_sphere();
         let axis = if sphere && self.params.ideal_plane {
-            bodies.orientation[i] = break_plane::turn_to_ideal(&bodies.orientation[i], &trigger.ideal_normal());
+            bodies.orientation[i] =
+                break_plane::turn_to_ideal(&bodies.orientation[i], &trigger.ideal_normal());
             0
         } else {
             let (_, q) = bodies.shape_placement(i);
@@ -436,17 +448,19 @@ impl GrainFracture {
         let Some((gc, _)) = self.params.cohesion else {
             return;
         };
-        for (split, event) in pending.iter().zip(self.events.iter_mut().rev().take(pending.len()).rev()) {
+        for (split, event) in pending
+            .iter()
+            .zip(self.events.iter_mut().rev().take(pending.len()).rev())
+        {
             let (a, b) = (split.a, split.b);
             let demand_of = |k: usize| {
                 let r = bodies.pos[k] - split.centroid;
-                let accel = split.accel
-                    + split.alpha.cross(&r)
-                    + split.omega.cross(&split.omega.cross(&r));
+                let accel =
+                    split.accel + split.alpha.cross(&r) + split.omega.cross(&split.omega.cross(&r));
                 let force = accel * bodies.mass[k] - forces.force[k];
                 let iw = world_inertia(bodies, k);
-                let torque = iw * split.alpha + split.omega.cross(&(iw * split.omega))
-                    - forces.torque[k];
+                let torque =
+                    iw * split.alpha + split.omega.cross(&(iw * split.omega)) - forces.torque[k];
                 (force, torque)
             };
             let (force_a, torque_a) = demand_of(a);

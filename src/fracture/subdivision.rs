@@ -33,7 +33,10 @@ pub fn halves(semi: &[f64; 6], k: usize) -> [([f64; 6], f64); 2] {
     plus[2 * k + 1] = (1.0 - LENGTH_RATIO) * sp;
     minus[2 * k + 1] = LENGTH_RATIO * sm;
     minus[2 * k] = (1.0 - LENGTH_RATIO) * sm;
-    [(plus, (1.0 - LENGTH_RATIO) * sp), (minus, -(1.0 - LENGTH_RATIO) * sm)]
+    [
+        (plus, (1.0 - LENGTH_RATIO) * sp),
+        (minus, -(1.0 - LENGTH_RATIO) * sm),
+    ]
 }
 
 /// One half, placed in the world.
@@ -73,10 +76,7 @@ pub fn split(parent: &Parent, k: usize) -> [Half; 2] {
     let (pe_p, cp) = place(sp, shift_p);
     let (pe_m, cm) = place(sm, shift_m);
     let (vp, vm) = (pe_p.volume(), pe_m.volume());
-    let (mp, mm) = (
-        parent.mass * vp / (vp + vm),
-        parent.mass * vm / (vp + vm),
-    );
+    let (mp, mm) = (parent.mass * vp / (vp + vm), parent.mass * vm / (vp + vm));
     let shift = parent.centroid - (cp * mp + cm * mm) / parent.mass;
     let half = |pe: PolyEllipsoid, mass: f64, c: Vec3| {
         let centroid = c + shift;
@@ -99,7 +99,7 @@ mod tests {
         // Eq. 28: max rc = min over α of sqrt((0.99 − 0.81 sin²α − 0.18 sin α) / cos²α).
         let rc = (0..100_000)
             .map(|i| {
-                let a = 1.5707 * i as f64 / 100_000.0;
+                let a = 0.9999 * std::f64::consts::FRAC_PI_2 * i as f64 / 100_000.0;
                 ((0.99 - 0.81 * a.sin().powi(2) - 0.18 * a.sin()) / a.cos().powi(2)).sqrt()
             })
             .fold(f64::INFINITY, f64::min);
@@ -132,7 +132,11 @@ mod tests {
             assert!((com - parent.centroid).norm() < 1e-15);
             let p = a.velocity * a.mass + b.velocity * b.mass;
             let p0 = parent.velocity * parent.mass;
-            assert!((p - p0).norm() < 1e-13 * p0.norm(), "{}", (p - p0).norm() / p0.norm());
+            assert!(
+                (p - p0).norm() < 1e-13 * p0.norm(),
+                "{}",
+                (p - p0).norm() / p0.norm()
+            );
             // 90% of the parent's volume.
             assert!(((a.pe.volume() + b.pe.volume()) / pe.volume() - 0.9).abs() < 1e-12);
         }

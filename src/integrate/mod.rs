@@ -1,8 +1,11 @@
 //! Time integration and the critical time step.
 
 mod velocity_verlet;
+// beam2d: Gear's predictor-corrector and velocity Verlet on flat arrays of degrees of freedom.
+pub mod gear5;
 
-pub use velocity_verlet::VelocityVerlet;
+pub use gear5::Gear5;
+pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drift_dofs};
 
 /// Rayleigh critical time step (s) of a sphere of radius `r` (m):
 /// `π r sqrt(ρ / G) / (0.1631 ν + 0.8766)`, the time a Rayleigh wave takes to cross it.

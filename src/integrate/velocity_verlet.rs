@@ -16,6 +16,11 @@
 //! angular momentum exactly, and its kinetic energy to second order in `dt`.
 //! Orientations are advanced only when something reads them (`track_orientation`: shapes
 //! other than spheres, break planes); spheres' forces never do.
+//!
+//! [`half_kick`] and [`drift`] are the formula itself, shared with the flat arrays of degrees
+//! of freedom of the 2D polygon model ([`kick_drift_dofs`], [`kick_dofs`]).
+
+use std::ops::{AddAssign, Mul};
 
 use nalgebra::UnitQuaternion;
 use rayon::prelude::*;
@@ -49,8 +54,8 @@ impl VelocityVerlet {
         } = b;
         let update =
             |i: usize, x: &mut Vec3, v: &mut Vec3, w: &mut Vec3, q: &mut UnitQuaternion<f64>| {
-                *v += f.force[i] * (half * inv_mass[i]);
-                *x += *v * dt;
+                half_kick(v, f.force[i], inv_mass[i], dt);
+                drift(x, *v, dt);
                 let inv_i = &inv_inertia[i];
                 if !track {
                     *w += f.torque[i].component_mul(inv_i) * half;
@@ -100,7 +105,7 @@ impl VelocityVerlet {
         } = b;
         let orientation = &*orientation;
         let update = |(i, (v, w)): (usize, (&mut Vec3, &mut Vec3))| {
-            *v += f.force[i] * (half * inv_mass[i]);
+            half_kick(v, f.force[i], inv_mass[i], dt);
             let inv_i = &inv_inertia[i];
             if track && !is_isotropic(inv_i) {
                 let q = &orientation[i];
@@ -143,6 +148,40 @@ pub fn angular_momentum(q: &UnitQuaternion<f64>, w: &Vec3, inv_inertia: &Vec3) -
 #[inline]
 pub fn angular_velocity(q: &UnitQuaternion<f64>, l: &Vec3, inv_inertia: &Vec3) -> Vec3 {
     q * q.inverse_transform_vector(l).component_mul(inv_inertia)
+}
+
+/// Half a kick: `v += dt/2 · F / m`.
+#[inline(always)]
+pub fn half_kick<T: Copy + AddAssign + Mul<f64, Output = T>>(
+    v: &mut T,
+    force: T,
+    inv_mass: f64,
+    dt: f64,
+) {
+    *v += force * (0.5 * dt * inv_mass);
+}
+
+/// A drift: `x += dt · v`.
+#[inline(always)]
+pub fn drift<T: Copy + AddAssign + Mul<f64, Output = T>>(x: &mut T, v: T, dt: f64) {
+    *x += v * dt;
+}
+
+/// Velocity Verlet's first half kick and drift on flat arrays of degrees of freedom (a body's
+/// coordinates and angles side by side); `inv_m` holds 1/m or 1/I per degree of freedom, 0
+/// for prescribed ones.
+pub fn kick_drift_dofs(x: &mut [f64], v: &mut [f64], f: &[f64], inv_m: &[f64], dt: f64) {
+    for k in 0..x.len() {
+        half_kick(&mut v[k], f[k], inv_m[k], dt);
+        drift(&mut x[k], v[k], dt);
+    }
+}
+
+/// Velocity Verlet's second half kick on flat arrays of degrees of freedom.
+pub fn kick_dofs(v: &mut [f64], f: &[f64], inv_m: &[f64], dt: f64) {
+    for k in 0..v.len() {
+        half_kick(&mut v[k], f[k], inv_m[k], dt);
+    }
 }
 
 /// Rotates `q` by the angular velocity `w` (world frame) over `dt`.

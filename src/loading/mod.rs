@@ -1,5 +1,8 @@
 //! Prescribed boundary motion.
 
+// beam2d: driven boundary layers, explosion and projectile.
+pub mod beam2d;
+
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
@@ -60,6 +63,18 @@ impl Loading {
                     speed: l.speed.expect("validated"),
                     end_displacement: l.end_displacement.expect("validated"),
                 }
+            }
+            LoadingKind::ElasticModuli
+            | LoadingKind::ConfinedCompression
+            | LoadingKind::Explosion
+            | LoadingKind::Projectile => {
+                return Err(scene.key_error(
+                    "loading.kind",
+                    format!(
+                        "= \"{}\" is a loading of model.kind = \"beam2d\"",
+                        l.kind.as_str()
+                    ),
+                ));
             }
         })
     }
@@ -253,6 +268,19 @@ pub fn least_squares_slope(pts: &[(f64, f64)]) -> f64 {
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
     sxy / sxx
+}
+
+/// The coefficient of determination R² of the least-squares line of `slope` through `pts`.
+pub fn r_squared(pts: &[(f64, f64)], slope: f64) -> f64 {
+    let n = pts.len() as f64;
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+    let ss_res: f64 = pts
+        .iter()
+        .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
+        .sum();
+    let ss_tot: f64 = pts.iter().map(|p| (p.1 - my).powi(2)).sum();
+    1.0 - ss_res / ss_tot
 }
 
 #[cfg(test)]

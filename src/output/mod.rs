@@ -3,6 +3,8 @@
 
 pub mod checkpoint;
 pub mod vtk;
+// beam2d: polygons and beams for ParaView.
+pub mod vtk_polygons;
 
 use std::io::Write;
 use std::path::{Path, PathBuf};

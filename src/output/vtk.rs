@@ -6,7 +6,7 @@ use std::fmt::Write;
 
 use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
 
-fn header(out: &mut String, points: usize, cells: usize) {
+pub(crate) fn header(out: &mut String, points: usize, cells: usize) {
     out.push_str("<?xml version=\"1.0\"?>\n");
     out.push_str(
         "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n",
@@ -18,11 +18,11 @@ fn header(out: &mut String, points: usize, cells: usize) {
     );
 }
 
-fn footer(out: &mut String) {
+pub(crate) fn footer(out: &mut String) {
     out.push_str("    </Piece>\n  </UnstructuredGrid>\n</VTKFile>\n");
 }
 
-fn vectors(out: &mut String, name: &str, values: impl Iterator<Item = Vec3>) {
+pub(crate) fn vectors(out: &mut String, name: &str, values: impl Iterator<Item = Vec3>) {
     let _ = writeln!(
         out,
         "        <DataArray type=\"Float64\" Name=\"{name}\" NumberOfComponents=\"3\" format=\"ascii\">"
@@ -33,7 +33,7 @@ fn vectors(out: &mut String, name: &str, values: impl Iterator<Item = Vec3>) {
     out.push_str("        </DataArray>\n");
 }
 
-fn scalars<T: std::fmt::LowerExp>(
+pub(crate) fn scalars<T: std::fmt::LowerExp>(
     out: &mut String,
     name: &str,
     kind: &str,
@@ -49,7 +49,12 @@ fn scalars<T: std::fmt::LowerExp>(
     out.push_str("        </DataArray>\n");
 }
 
-fn integers(out: &mut String, name: &str, kind: &str, values: impl Iterator<Item = u64>) {
+pub(crate) fn integers(
+    out: &mut String,
+    name: &str,
+    kind: &str,
+    values: impl Iterator<Item = u64>,
+) {
     let _ = write!(
         out,
         "        <DataArray type=\"{kind}\" Name=\"{name}\" format=\"ascii\">\n         "
@@ -148,23 +153,34 @@ pub fn grains_vtu(bodies: &Bodies, origin: &[u32]) -> String {
     let cells = tris.len() * n;
     let mut out = String::with_capacity(64 * points.len() + 48 * cells + 1024);
     header(&mut out, points.len(), cells);
-    out.push_str("      <Points>
-");
+    out.push_str(
+        "      <Points>
+",
+    );
     vectors(&mut out, "position", points.into_iter());
-    out.push_str("      </Points>
+    out.push_str(
+        "      </Points>
       <Cells>
-");
+",
+    );
     integers(
         &mut out,
         "connectivity",
         "Int64",
         (0..n).flat_map(|i| tris.iter().flatten().map(move |&k| (26 * i + k) as u64)),
     );
-    integers(&mut out, "offsets", "Int64", (1..=cells as u64).map(|k| 3 * k));
+    integers(
+        &mut out,
+        "offsets",
+        "Int64",
+        (1..=cells as u64).map(|k| 3 * k),
+    );
     integers(&mut out, "types", "UInt8", std::iter::repeat_n(5, cells));
-    out.push_str("      </Cells>
+    out.push_str(
+        "      </Cells>
       <CellData Scalars=\"id\">
-");
+",
+    );
     integers(
         &mut out,
         "id",
@@ -176,11 +192,16 @@ pub fn grains_vtu(bodies: &Bodies, origin: &[u32]) -> String {
         "grain",
         "Int64",
         (0..n).flat_map(|i| {
-            std::iter::repeat_n(origin.get(i).copied().unwrap_or(i as u32) as u64, tris.len())
+            std::iter::repeat_n(
+                origin.get(i).copied().unwrap_or(i as u32) as u64,
+                tris.len(),
+            )
         }),
     );
-    out.push_str("      </CellData>
-");
+    out.push_str(
+        "      </CellData>
+",
+    );
     footer(&mut out);
     out
 }

@@ -11,7 +11,9 @@ pub fn equivalent_diameter(mass: f64, density: f64) -> f64 {
 
 /// `bins` sieve sizes spaced evenly in log between the smallest and largest of `diameters`.
 pub fn sieve_sizes(diameters: impl Iterator<Item = f64>, bins: usize) -> Vec<f64> {
-    let (lo, hi) = diameters.fold((f64::INFINITY, 0.0f64), |(lo, hi), d| (lo.min(d), hi.max(d)));
+    let (lo, hi) = diameters.fold((f64::INFINITY, 0.0f64), |(lo, hi), d| {
+        (lo.min(d), hi.max(d))
+    });
     if !(lo.is_finite() && hi > 0.0) {
         return Vec::new();
     }

@@ -7,6 +7,8 @@
 mod compaction;
 mod import;
 mod lattice;
+// beam2d: the vectorizable random lattice of Voronoi polygons.
+pub mod lattice2d;
 mod random_pack;
 
 use nalgebra::UnitQuaternion;
@@ -151,6 +153,12 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<S
             (b, Walls::new_box(lo, hi))
         }
         SampleKind::Single => single_grain(scene, &mut orient)?,
+        SampleKind::VectorizableRandomLattice => {
+            return Err(scene.key_error(
+                "sample.kind",
+                "= \"vectorizable_random_lattice\" makes 2D polygons for model.kind = \"beam2d\"; this builds sphere packings only",
+            ));
+        }
     };
     let default_orientations = if spec.kind == SampleKind::Random {
         Orientations::Random

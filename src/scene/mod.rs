@@ -7,6 +7,7 @@
 mod overrides;
 mod parse;
 mod validate;
+mod validate_beam2d;
 
 use std::path::{Path, PathBuf};
 
@@ -51,6 +52,9 @@ pub struct Scene {
     /// Where the scene came from (for messages and relative paths); not a key.
     #[serde(skip)]
     pub source: SceneSource,
+    // beam2d: the fragment mass histogram and its power-law fit.
+    #[serde(default)]
+    pub fragments: FragmentSpec,
 }
 
 fn default_seed() -> u64 {
@@ -77,7 +81,9 @@ pub struct SceneSource {
 pub struct Material {
     /// Young's modulus E (Pa), > 0.
     pub young: f64,
-    /// Poisson's ratio ν, in (-1, 0.5).
+    /// Poisson's ratio ν, in (-1, 0.5). Required by the sphere models; `beam2d` does not read
+    /// it (its polygons are rigid), so there it may be left out (NaN marks it absent).
+    #[serde(default = "absent")]
     pub poisson: f64,
     /// Density ρ (kg/m³), > 0.
     pub density: f64,
@@ -87,10 +93,25 @@ pub struct Material {
     /// Normal coefficient of restitution e, in (0, 1] (used by the `damping` effect).
     #[serde(default = "one")]
     pub restitution: f64,
+    // beam2d (docs/scenes.md): beams (Eq. 7-12), their breaking (Eq. 13), contact damping (Eq. 3-4).
+    /// Young's modulus E of the beams (Pa), > 0.
+    pub beam_young: Option<f64>,
+    /// Stretching threshold t_ε of the breaking rule (strain), > 0.
+    pub beam_strain_threshold: Option<f64>,
+    /// Bending threshold t_Θ of the breaking rule (rad), > 0.
+    pub beam_bending_threshold: Option<f64>,
+    /// Normal damping coefficient γ_N (1/s), ≥ 0.
+    pub normal_damping: Option<f64>,
+    /// Tangential (friction) coefficient γ_T (1/s), ≥ 0.
+    pub tangential_damping: Option<f64>,
 }
 
 fn one() -> f64 {
     1.0
+}
+
+fn absent() -> f64 {
+    f64::NAN
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -110,6 +131,8 @@ pub enum SampleKind {
     YadeText,
     /// One grain (`semi_axes`) resting on the bottom of a box whose top touches it.
     Single,
+    /// beam2d: Voronoi polygons of one random point per square of a regular grid.
+    VectorizableRandomLattice,
 }
 
 impl SampleKind {
@@ -122,6 +145,7 @@ impl SampleKind {
             SampleKind::LammpsData => "lammps_data",
             SampleKind::YadeText => "yade_text",
             SampleKind::Single => "single",
+            SampleKind::VectorizableRandomLattice => "vectorizable_random_lattice",
         }
     }
 }
@@ -167,6 +191,19 @@ pub struct SampleSpec {
     /// The grain of `kind = "single"`: semi-axes [a+, a-, b+, b-, c+, c-] (m) along the
     /// grain's +x, -x, +y, -y, +z, -z.
     pub semi_axes: Option<[f64; 6]>,
+    // beam2d: the vectorizable random lattice.
+    /// Lattice spacing (m) of the grid of squares.
+    pub spacing: Option<f64>,
+    /// Largest distance (m) of a square's point from its centre, in [0, spacing].
+    pub disorder: Option<f64>,
+    /// The outline the polygons are cut to.
+    pub outline: Option<Outline>,
+    /// Grid squares [nx, ny] of a rectangle.
+    pub cells: Option<[usize; 2]>,
+    /// Diameter (m) of a disc.
+    pub diameter: Option<f64>,
+    /// Out-of-plane thickness (m) of the 2D solid; default 1.
+    pub thickness: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -183,12 +220,42 @@ pub enum GrainShape {
     PolyEllipsoid,
 }
 
+/// beam2d: the outline of a polygon sample.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outline {
+    /// `cells` squares of `spacing`, lower left corner at the origin.
+    Rectangle,
+    /// A disc of `diameter` centred at the origin.
+    Disc,
+}
+
+impl Outline {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Outline::Rectangle => "rectangle",
+            Outline::Disc => "disc",
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ModelKind {
     /// Spheres (and, with fracture, poly-ellipsoids) with Hertz–Mindlin contacts.
     #[default]
     Granular,
+    /// 2D Voronoi polygons joined by breakable beams (polygon-beam-fragmentation-2d).
+    Beam2d,
+}
+
+impl ModelKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            ModelKind::Granular => "granular",
+            ModelKind::Beam2d => "beam2d",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -217,6 +284,10 @@ pub enum EffectKind {
     Cohesion,
     /// Weibull statistics and size effect of the grains' strength (Eq. 18).
     Weibull,
+    /// beam2d: elastic beams between neighbouring polygons (Eq. 7-12).
+    Beams,
+    /// beam2d: beams break by Eq. 13 and never return.
+    BeamBreaking,
 }
 
 impl EffectKind {
@@ -229,6 +300,8 @@ impl EffectKind {
             EffectKind::Fracture => "fracture",
             EffectKind::Cohesion => "cohesion",
             EffectKind::Weibull => "weibull",
+            EffectKind::Beams => "beams",
+            EffectKind::BeamBreaking => "beam_breaking",
         }
     }
 }
@@ -244,6 +317,30 @@ pub enum LoadingKind {
     /// Flat platens: the top (+z) wall moves down at `speed` until it has travelled
     /// `end_displacement`; the bottom is fixed (single-grain crushing).
     Platens,
+    /// beam2d: uniaxial elongation, then compression from the same start, under plane stress
+    /// with free sides (Section 3.1).
+    ElasticModuli,
+    /// beam2d: strain-controlled compression between confined horizontal boundaries
+    /// (Section 3.2).
+    ConfinedCompression,
+    /// beam2d: the centre polygon explodes (Section 3.3.1).
+    Explosion,
+    /// beam2d: one polygon at the lower middle is shot into the block (Section 3.3.2).
+    Projectile,
+}
+
+impl LoadingKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LoadingKind::None => "none",
+            LoadingKind::Oedometer => "oedometer",
+            LoadingKind::Platens => "platens",
+            LoadingKind::ElasticModuli => "elastic_moduli",
+            LoadingKind::ConfinedCompression => "confined_compression",
+            LoadingKind::Explosion => "explosion",
+            LoadingKind::Projectile => "projectile",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -256,11 +353,19 @@ pub struct LoadingSpec {
     pub end_strain: Option<f64>,
     /// Duration of the run (s) for `kind = "none"`.
     pub end_time: Option<f64>,
-    // granular particle fracture
-    /// Speed of the top platen (m/s), > 0, for `kind = "platens"`.
+    /// Speed (m/s), > 0: of the top platen (`platens`), of the projectile polygon (beam2d
+    /// `projectile`).
     pub speed: Option<f64>,
+    // granular particle fracture
     /// Platen travel (m) at which a `platens` run ends, > 0.
     pub end_displacement: Option<f64>,
+    // beam2d loadings.
+    /// Time (s) over which the driven boundaries accelerate uniformly to their final speed.
+    pub ramp_time: Option<f64>,
+    /// Energy E0 (J) of the explosion.
+    pub energy: Option<f64>,
+    /// The run stops after this many steps without a beam breaking (explosion, projectile).
+    pub quiet_steps: Option<u64>,
 }
 
 /// The time step: a number of seconds, or "auto" for the Rayleigh critical step × safety.
@@ -276,6 +381,17 @@ pub enum DtSpec {
 pub enum IntegratorKind {
     #[default]
     VelocityVerlet,
+    /// beam2d: Gear's fifth-order predictor–corrector.
+    Gear5,
+}
+
+impl IntegratorKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            IntegratorKind::VelocityVerlet => "velocity_verlet",
+            IntegratorKind::Gear5 => "gear5",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -446,6 +562,35 @@ impl Default for FractureSpec {
             springs: default_springs(),
             ideal_plane: true,
             plane_jitter: true,
+        }
+    }
+}
+
+/// beam2d: how fragment masses are binned and where the power law F(m) ~ m^-β is fitted.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FragmentSpec {
+    /// The fit range [lo, hi] in mean polygon masses.
+    #[serde(default = "default_fit_range")]
+    pub fit_range: [f64; 2],
+    /// Logarithmic bins per decade of mass.
+    #[serde(default = "default_bins_per_decade")]
+    pub bins_per_decade: u32,
+}
+
+fn default_fit_range() -> [f64; 2] {
+    [2.0, 20.0]
+}
+
+fn default_bins_per_decade() -> u32 {
+    4
+}
+
+impl Default for FragmentSpec {
+    fn default() -> Self {
+        FragmentSpec {
+            fit_range: default_fit_range(),
+            bins_per_decade: default_bins_per_decade(),
         }
     }
 }

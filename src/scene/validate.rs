@@ -1,6 +1,8 @@
 //! Range checks: each failure names the key, its value and the allowed range.
 
-use super::{DtSpec, EffectKind, GrainShape, LoadingKind, SampleKind, Scene};
+use super::{
+    DtSpec, EffectKind, GrainShape, LoadingKind, ModelKind, SampleKind, Scene, validate_beam2d,
+};
 use crate::error::Result;
 
 /// An allowed interval, printed in the usual notation: (a, b] and so on.
@@ -69,7 +71,7 @@ impl std::fmt::Display for Range {
     }
 }
 
-fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> Result<()> {
+pub(super) fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> Result<()> {
     if range.contains(value) {
         Ok(())
     } else {
@@ -85,7 +87,7 @@ fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> Resu
     }
 }
 
-fn require<T: Copy>(scene: &Scene, key: &str, value: Option<T>, why: &str) -> Result<T> {
+pub(super) fn require<T: Copy>(scene: &Scene, key: &str, value: Option<T>, why: &str) -> Result<T> {
     value.ok_or_else(|| scene.key_error(key, format!("is required {why}")))
 }
 
@@ -93,9 +95,20 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
     if s.name.trim().is_empty() {
         return Err(s.key_error("name", "must not be empty"));
     }
+    validate_beam2d::validate_model(s)?;
     let m = &s.material;
     check(s, "material.young", m.young, Range::POSITIVE, "Pa")?;
-    check(s, "material.poisson", m.poisson, Range::open(-1.0, 0.5), "")?;
+    // beam2d's rigid polygons have no Poisson's ratio: there it may be left out.
+    if !(m.poisson.is_nan() && s.model.kind == ModelKind::Beam2d) {
+        let why = format!("for model.kind = \"{}\"", s.model.kind.as_str());
+        let nu = require(
+            s,
+            "material.poisson",
+            (!m.poisson.is_nan()).then_some(m.poisson),
+            &why,
+        )?;
+        check(s, "material.poisson", nu, Range::open(-1.0, 0.5), "")?;
+    }
     check(s, "material.density", m.density, Range::POSITIVE, "kg/m³")?;
     check(s, "material.friction", m.friction, Range::NON_NEGATIVE, "")?;
     check(
@@ -109,6 +122,7 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
     validate_sample(s)?;
     validate_effects(s)?;
     validate_fracture(s)?;
+    validate_beam2d::validate_keys(s)?;
 
     let l = &s.loading;
     match l.kind {
@@ -135,6 +149,11 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
             )?;
             check(s, "loading.end_time", end, Range::POSITIVE, "s")?;
         }
+        // Checked with the rest of the model's keys (validate_beam2d.rs).
+        LoadingKind::ElasticModuli
+        | LoadingKind::ConfinedCompression
+        | LoadingKind::Explosion
+        | LoadingKind::Projectile => {}
     }
 
     check(
@@ -184,7 +203,13 @@ fn validate_fracture(s: &Scene) -> Result<()> {
         Range::POSITIVE,
         "",
     )?;
-    check(s, "fracture.toughness", f.toughness, Range::POSITIVE, "Pa m^0.5")?;
+    check(
+        s,
+        "fracture.toughness",
+        f.toughness,
+        Range::POSITIVE,
+        "Pa m^0.5",
+    )?;
     check(
         s,
         "fracture.critical_contacts",
@@ -306,6 +331,7 @@ fn validate_sample(s: &Scene) -> Result<()> {
                 return Err(s.key_error("sample.file", format!("is required {why}")));
             }
         }
+        SampleKind::VectorizableRandomLattice => validate_beam2d::validate_lattice(s)?,
         SampleKind::Single => {
             let semi = require(s, "sample.semi_axes", p.semi_axes, &why)?;
             for v in semi {

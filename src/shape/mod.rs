@@ -3,6 +3,8 @@
 //! ([`poly_ellipsoid`]) come from breaking grains or from poly-ellipsoid samples.
 
 pub mod poly_ellipsoid;
+// beam2d: convex polygons and half-plane clipping.
+pub mod polygon;
 
 use nalgebra::UnitQuaternion;
 use serde::{Deserialize, Serialize};

@@ -1,6 +1,8 @@
 //! The state of a run: bodies as structure-of-arrays, walls, and the forces of the last step.
 //! Everything here is plain data, serialisable for checkpoints.
 
+// beam2d: rigid polygons in the plane.
+pub mod polygons;
 mod walls;
 
 use nalgebra::{UnitQuaternion, Vector3};

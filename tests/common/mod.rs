@@ -77,6 +77,16 @@ pub fn scene_file(text: &str) -> (tempfile::TempDir, PathBuf) {
     (dir, file)
 }
 
+/// A result file's text without the summary's `wall_seconds` line, the one part that is timing.
+pub fn without_wall_seconds(p: &Path) -> String {
+    std::fs::read_to_string(p)
+        .unwrap_or_else(|e| panic!("{}: {e}", p.display()))
+        .lines()
+        .filter(|l| !l.contains("\"wall_seconds\""))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 /// A small random oedometer scene: `count` spheres at solid fraction 0.5 (small walled boxes
 /// cannot be packed much denser without compaction), compressed to `end_strain` at 200/s.
 pub fn small_oedometer(count: usize, effects: &str, end_strain: f64) -> String {

@@ -1,0 +1,5 @@
+//! Cohesive interactions between bodies.
+//!
+//! * [`beam2d`]: elastic beams between neighbouring polygons of the `beam2d` model (Eq. 7–13).
+
+pub mod beam2d;
