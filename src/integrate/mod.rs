@@ -1,7 +1,9 @@
 //! Time integration and the critical time step.
 
+mod tchamwa_wielgosz;
 mod velocity_verlet;
 
+pub use tchamwa_wielgosz::TchamwaWielgosz;
 pub use velocity_verlet::VelocityVerlet;
 
 /// Rayleigh critical time step (s) of a sphere of radius `r` (m):

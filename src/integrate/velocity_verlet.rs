@@ -97,7 +97,11 @@ impl VelocityVerlet {
 }
 
 /// Rotates `q` by the angular velocity `w` (world frame) over `dt`.
-fn advance_orientation(q: &UnitQuaternion<f64>, w: &Vec3, dt: f64) -> UnitQuaternion<f64> {
+pub(crate) fn advance_orientation(
+    q: &UnitQuaternion<f64>,
+    w: &Vec3,
+    dt: f64,
+) -> UnitQuaternion<f64> {
     UnitQuaternion::from_scaled_axis(w * dt) * q
 }
 

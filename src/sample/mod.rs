@@ -8,6 +8,7 @@ mod compaction;
 mod import;
 mod lattice;
 mod random_pack;
+pub mod voronoi;
 
 use nalgebra::UnitQuaternion;
 use rand::{RngExt, SeedableRng};

@@ -1,11 +1,16 @@
 //! Particle shapes. Spheres are the fast special case: their radius lives in
 //! `Bodies::radius` and their contact needs no orientation.
 
+pub mod polyhedron;
+
 use serde::{Deserialize, Serialize};
 
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub enum Shape {
     Sphere,
+    /// dlsm: a Voronoi cell; its geometry lives with the model, its principal moments in
+    /// `Bodies::inertia` and its principal frame in `Bodies::orientation`.
+    Polyhedron,
 }
 
 /// Mass (kg) of a sphere of radius `r` (m) and density `rho` (kg/m³).

@@ -110,17 +110,7 @@ impl Bodies {
     /// neighbours get nearby indices, which keeps the force loop in cache and each thread's
     /// range of partners narrow.
     pub fn spatial_order(&self, cell: f64) -> Vec<usize> {
-        let mut lo = Vec3::repeat(f64::INFINITY);
-        for p in &self.pos {
-            lo = lo.inf(p);
-        }
-        let key = |p: &Vec3| {
-            let c = (p - lo) / cell;
-            (c.z as u64, c.y as u64, c.x as u64)
-        };
-        let mut order: Vec<usize> = (0..self.len()).collect();
-        order.sort_by_key(|&i| key(&self.pos[i]));
-        order
+        spatial_order(&self.pos, cell)
     }
 
     /// The first body with a non-finite position or velocity, if any.
@@ -152,4 +142,20 @@ impl Forces {
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
         self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
     }
+}
+
+/// An order of `pos` by cells of edge `cell`, slab by slab along z, then y, then x (see
+/// [`Bodies::spatial_order`]).
+pub fn spatial_order(pos: &[Vec3], cell: f64) -> Vec<usize> {
+    let mut lo = Vec3::repeat(f64::INFINITY);
+    for p in pos {
+        lo = lo.inf(p);
+    }
+    let key = |p: &Vec3| {
+        let c = (p - lo) / cell;
+        (c.z as u64, c.y as u64, c.x as u64)
+    };
+    let mut order: Vec<usize> = (0..pos.len()).collect();
+    order.sort_by_key(|&i| key(&pos[i]));
+    order
 }
