@@ -17,8 +17,8 @@ use serde::{Deserialize, Serialize};
 use voro_rs::prelude::*;
 
 use super::pack_geometric;
-use crate::shape::polyhedron::{FaceGeometry, Polyhedron};
-use crate::state::{Vec3, spatial_order};
+use crate::shape::polyhedron::{FaceGeometry, Polyhedron, principal_axes};
+use crate::state::{Bodies, Vec3, spatial_order};
 
 /// The region a sample fills.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -367,6 +367,24 @@ fn cell_from_voro(c: &mut VoroCellNbr, seed: &Vec3, s: f64) -> Result<VoronoiCel
         inertia: mass.inertia,
         faces: cell_faces,
     })
+}
+
+/// Rigid bodies for `cells` of material `density` (kg/m³), in the same order: each at its
+/// centroid, oriented along its principal axes of inertia, with its polyhedron in that
+/// principal frame (vertices relative to the centroid).
+pub fn elements(cells: &[VoronoiCell], density: f64) -> (Bodies, Vec<Polyhedron>) {
+    let mut bodies = Bodies::default();
+    let mut shapes = Vec::with_capacity(cells.len());
+    for c in cells {
+        let (moments, q) = principal_axes(&c.inertia);
+        let shape = c
+            .polyhedron
+            .mapped(|v| q.inverse_transform_vector(&(v - c.centroid)));
+        let radius = shape.bounding_radius(&Vec3::zeros());
+        bodies.push_polyhedron(c.centroid, density * c.volume, moments * density, q, radius);
+        shapes.push(shape);
+    }
+    (bodies, shapes)
 }
 
 /// How isotropic the contact (face) normals are: `second_order` is the Frobenius norm of

@@ -65,6 +65,28 @@ impl Bodies {
         self.shape.push(Shape::Sphere);
     }
 
+    /// dlsm: adds a polyhedron at rest with its centroid at `pos`, principal moments of
+    /// inertia `inertia` (kg·m²) and principal frame `orientation`, bounded by `radius`.
+    pub fn push_polyhedron(
+        &mut self,
+        pos: Vec3,
+        mass: f64,
+        inertia: Vec3,
+        orientation: UnitQuaternion<f64>,
+        radius: f64,
+    ) {
+        self.pos.push(pos);
+        self.vel.push(Vec3::zeros());
+        self.omega.push(Vec3::zeros());
+        self.orientation.push(orientation);
+        self.radius.push(radius);
+        self.mass.push(mass);
+        self.inv_mass.push(1.0 / mass);
+        self.inertia.push(inertia);
+        self.inv_inertia.push(inertia.map(|v| 1.0 / v));
+        self.shape.push(Shape::Polyhedron);
+    }
+
     /// Total kinetic energy, translational and rotational (J), summed in index order.
     pub fn kinetic_energy(&self) -> f64 {
         let mut e = 0.0;
