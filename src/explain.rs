@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use crate::effects::Pipeline;
 use crate::error::Result;
-use crate::scene::{DtSpec, EffectKind, LoadingKind, SampleKind, Scene};
+use crate::scene::{DtSpec, EffectKind, LoadingKind, ModelKind, SampleKind, Scene};
 
 const ALL_EFFECTS: [EffectKind; 4] = [
     EffectKind::Contact,
@@ -16,6 +16,9 @@ const ALL_EFFECTS: [EffectKind; 4] = [
 /// A human-readable account of the scene: sample, force pipeline (and what is left out),
 /// loading, time step and outputs.
 pub fn explain(scene: &Scene) -> Result<String> {
+    if scene.model.kind == ModelKind::Dlsm {
+        return crate::dlsm::explain(scene);
+    }
     let pipeline = Pipeline::build(scene)?;
     let mut s = String::new();
     let _ = writeln!(
@@ -51,6 +54,10 @@ pub fn explain(scene: &Scene) -> Result<String> {
             l.strain_rate.unwrap_or_default(),
             l.end_strain.unwrap_or_default()
         ),
+        LoadingKind::Tension
+        | LoadingKind::FreeVibration
+        | LoadingKind::Brazilian
+        | LoadingKind::Drop => "a dlsm loading (needs model.kind = \"dlsm\")".to_string(),
     };
     let _ = writeln!(s, "loading: {loading}");
     let dt = match scene.time.dt {
@@ -108,5 +115,9 @@ fn describe_sample(scene: &Scene) -> String {
             p.kind.as_str(),
             p.file.as_deref().unwrap_or("")
         ),
+        SampleKind::VoronoiBox
+        | SampleKind::VoronoiCylinder
+        | SampleKind::VoronoiDisc
+        | SampleKind::VoronoiBall => format!("{} (needs model.kind = \"dlsm\")", p.kind.as_str()),
     }
 }

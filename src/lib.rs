@@ -10,6 +10,7 @@
 pub mod bench;
 pub mod bond;
 pub mod contact;
+pub mod dlsm;
 pub mod driver;
 pub mod effects;
 pub mod error;

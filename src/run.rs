@@ -6,6 +6,7 @@
 
 use serde_json::{Map, Value, json};
 
+use crate::dlsm::DlsmRun;
 use crate::error::Result;
 use crate::probe::Series;
 use crate::scene::{ModelKind, Scene};
@@ -61,6 +62,7 @@ pub fn build(
 ) -> Result<Box<dyn Run>> {
     match scene.model.kind {
         ModelKind::Granular => Ok(Box::new(Simulation::new(scene, threads, progress)?)),
+        ModelKind::Dlsm => Ok(Box::new(DlsmRun::new(scene, threads, progress)?)),
     }
 }
 
@@ -68,6 +70,7 @@ pub fn build(
 pub fn restore(scene: Scene, state: &[u8], threads: usize) -> Result<Box<dyn Run>> {
     match scene.model.kind {
         ModelKind::Granular => Ok(Box::new(Simulation::restore(scene, state, threads)?)),
+        ModelKind::Dlsm => Ok(Box::new(DlsmRun::restore(scene, state, threads)?)),
     }
 }
 

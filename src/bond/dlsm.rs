@@ -2,8 +2,8 @@
 //! Sections 2–5): every face shared by two elements is a cohesive contact whose force comes
 //! from Hooke's law applied to a strain built from the displacement of the surroundings.
 //!
-//! Per step, for every element i (reference point O_i: its Voronoi seed, carried rigidly by
-//! the element; mass centre x_i: its centroid):
+//! Per step, for every element i (reference point O_i: its Voronoi seed, where its mass is
+//! lumped; see [`crate::sample::voronoi::elements`]):
 //!
 //! ```text
 //! d_j = R_iᵀ (O_j − O_i) − r⁰_ij                 displacement of neighbour j in i's frame (Eq. 5–6)
@@ -19,7 +19,7 @@
 //! ```text
 //! ε_ij = (ε_i + ε_j)/2 with εnn replaced by (L − L0)/L0          Eq. 16–19
 //! σ_ij = 2μ ε_ij + λ tr(ε_ij) I,  f_ij = S σ_ij n (force on i)    Eq. 20–25
-//! m_ij = (O_ij − x_i) × f_ij + K S θ_ij,  m_ji = −(O_ij − x_j) × f_ij − K S θ_ij   Eq. 28–34
+//! m_ij = (O_ij − O_i) × f_ij + K S θ_ij,  m_ji = −(O_ij − O_j) × f_ij − K S θ_ij   Eq. 28–34
 //! ```
 //!
 //! O_ij is the midpoint of the seeds (on the face plane of a Voronoi tessellation) and θ_ij
@@ -76,8 +76,6 @@ pub struct DlsmBonds {
     two_mu: f64,
     pub young: f64,
     pub poisson: f64,
-    /// Seed minus centroid, in the element's principal frame (m).
-    pub seed_offset: Vec<Vec3>,
     /// The inverse of each element's initial orientation: `q q0⁻¹` turns with the element
     /// from the identity.
     frame0_inv: Vec<UnitQuaternion<f64>>,
@@ -99,7 +97,6 @@ pub struct DlsmBonds {
     pub broken: Vec<bool>,
     // Scratch of the last evaluation.
     rot: Vec<Matrix3<f64>>,
-    seed_pos: Vec<Vec3>,
     frame: Vec<UnitQuaternion<f64>>,
     strain: Vec<Sym>,
     out: Vec<ContactOut>,
@@ -110,7 +107,7 @@ const CHUNK: usize = 1024;
 
 impl DlsmBonds {
     /// The contacts of `cells` (each shared face once, area averaged over its two sides)
-    /// for elements `bodies` built from them in the same order (centroids, principal
+    /// for elements `bodies` built from them in the same order (at the seeds, in principal
     /// frames).
     pub fn from_cells(cells: &[VoronoiCell], bodies: &Bodies, young: f64, poisson: f64) -> Self {
         let n = cells.len();
@@ -175,9 +172,6 @@ impl DlsmBonds {
                     * (cells[other as usize].seed - cells[me as usize].seed);
             }
         }
-        let seed_offset = (0..n)
-            .map(|i| frame0_inv[i] * (cells[i].seed - bodies.pos[i]))
-            .collect();
         let lambda = young * poisson / ((1.0 + poisson) * (1.0 - 2.0 * poisson));
         let two_mu = young / (1.0 + poisson);
         let rot_stiffness = length0
@@ -191,7 +185,6 @@ impl DlsmBonds {
             two_mu,
             young,
             poisson,
-            seed_offset,
             frame0_inv,
             start,
             entries,
@@ -204,7 +197,6 @@ impl DlsmBonds {
             rot_stiffness,
             broken: vec![false; contacts],
             rot: vec![Matrix3::identity(); n],
-            seed_pos: vec![Vec3::zeros(); n],
             frame: vec![UnitQuaternion::identity(); n],
             strain: vec![[0.0; 6]; n],
             out: vec![ContactOut::default(); contacts],
@@ -233,6 +225,23 @@ impl DlsmBonds {
         self.range(i)
             .filter(|&k| !self.broken[(self.entries[k].contact & !SECOND) as usize])
             .count()
+    }
+
+    /// Smallest over largest eigenvalue of element i's least-squares matrix A (0 when it has
+    /// fewer than 3 unbroken neighbours).
+    pub fn conditioning(&self, i: usize) -> f64 {
+        let mut a = Matrix3::zeros();
+        for k in self.range(i) {
+            if !self.broken[(self.entries[k].contact & !SECOND) as usize] {
+                a += self.r0[k] * self.r0[k].transpose();
+            }
+        }
+        let e = SymmetricEigen::new(a).eigenvalues;
+        if e.max() > 0.0 {
+            e.min() / e.max()
+        } else {
+            0.0
+        }
     }
 
     fn range(&self, i: usize) -> std::ops::Range<usize> {
@@ -316,7 +325,7 @@ impl DlsmBonds {
         strength: Option<f64>,
     ) -> Vec<usize> {
         self.frames(bodies);
-        self.strains();
+        self.strains(&bodies.pos);
         let broke = match strength {
             Some(s) => self.contact_pass::<true>(bodies, s),
             None => self.contact_pass::<false>(bodies, f64::INFINITY),
@@ -328,38 +337,31 @@ impl DlsmBonds {
         broke
     }
 
-    /// Pass 1: rotation, seed position and rotation since the start of every element.
+    /// Pass 1: rotation and rotation since the start of every element.
     fn frames(&mut self, bodies: &Bodies) {
-        let (pos, orientation) = (&bodies.pos, &bodies.orientation);
-        let (offset, frame0_inv) = (&self.seed_offset, &self.frame0_inv);
-        let work = |i0: usize,
-                    rot: &mut [Matrix3<f64>],
-                    seed: &mut [Vec3],
-                    frame: &mut [UnitQuaternion<f64>]| {
+        let orientation = &bodies.orientation;
+        let frame0_inv = &self.frame0_inv;
+        let work = |i0: usize, rot: &mut [Matrix3<f64>], frame: &mut [UnitQuaternion<f64>]| {
             for k in 0..rot.len() {
-                let i = i0 + k;
-                let q = orientation[i];
-                let r = *q.to_rotation_matrix().matrix();
-                seed[k] = pos[i] + r * offset[i];
-                rot[k] = r;
-                frame[k] = q * frame0_inv[i];
+                let q = orientation[i0 + k];
+                rot[k] = *q.to_rotation_matrix().matrix();
+                frame[k] = q * frame0_inv[i0 + k];
             }
         };
         if parallel(self.rot.len()) {
             self.rot
                 .par_chunks_mut(CHUNK)
-                .zip(self.seed_pos.par_chunks_mut(CHUNK))
                 .zip(self.frame.par_chunks_mut(CHUNK))
                 .enumerate()
-                .for_each(|(c, ((r, s), f))| work(c * CHUNK, r, s, f));
+                .for_each(|(c, (r, f))| work(c * CHUNK, r, f));
         } else {
-            work(0, &mut self.rot, &mut self.seed_pos, &mut self.frame);
+            work(0, &mut self.rot, &mut self.frame);
         }
     }
 
     /// Pass 2: every element's strain (world frame), Eq. 1–15.
-    fn strains(&mut self) {
-        let (start, entries, seed, rot) = (&self.start, &self.entries, &self.seed_pos, &self.rot);
+    fn strains(&mut self, seed: &[Vec3]) {
+        let (start, entries, rot) = (&self.start, &self.entries, &self.rot);
         let (proj, full) = (&self.proj, &self.full_rank);
         let work = |i0: usize, out: &mut [Sym]| {
             for (k, e) in out.iter_mut().enumerate() {
@@ -371,22 +373,19 @@ impl DlsmBonds {
                     let d = seed[en.other as usize] - oi;
                     g += d * en.w.transpose();
                 }
-                // ε (world) = sym(G Rᵀ) − R P Rᵀ, the least-squares gradient R (Rᵀ G − P) Rᵀ.
+                // In i's frame the neighbourhood has moved by F = Rᵀ G = P + H (H: the
+                // least-squares gradient, Eq. 7). Its strain, ½(FᵀF − P) = sym(H) + ½HᵀH, is
+                // Eq. 15 to first order and, unlike sym(H) alone, blind to a rotation of the
+                // element relative to its neighbours (FᵀF = GᵀG); it is then turned from the
+                // element's frame to the world, R E Rᵀ.
                 let r = &rot[i];
-                let grt = g * r.transpose();
-                let mut s = sym_of(&grt);
+                let mut green = g.tr_mul(&g);
                 if full[i] {
-                    s[0] -= 1.0;
-                    s[1] -= 1.0;
-                    s[2] -= 1.0;
-                } else if proj[i] != [0.0; 6] {
-                    let p = r * mat_of(&proj[i]) * r.transpose();
-                    let p = sym_of(&p);
-                    for m in 0..6 {
-                        s[m] -= p[m];
-                    }
+                    green -= Matrix3::identity();
+                } else {
+                    green -= mat_of(&proj[i]);
                 }
-                *e = s;
+                *e = sym_of(&(r * (green * 0.5) * r.transpose()));
             }
         };
         if parallel(self.strain.len()) {
@@ -402,10 +401,10 @@ impl DlsmBonds {
     /// Pass 3: force and moments of every contact, Eq. 16–36. Returns the contacts that
     /// broke (when `FRACTURE`).
     fn contact_pass<const FRACTURE: bool>(&mut self, bodies: &Bodies, strength: f64) -> Vec<usize> {
-        let pos = &bodies.pos;
+        let seed = &bodies.pos;
         let (pair, area, length0, rot_k) =
             (&self.pair, &self.area, &self.length0, &self.rot_stiffness);
-        let (seed, frame, strain) = (&self.seed_pos, &self.frame, &self.strain);
+        let (frame, strain) = (&self.frame, &self.strain);
         let (lambda, two_mu) = (self.lambda, self.two_mu);
         let work =
             |c0: usize, out: &mut [ContactOut], broken: &mut [bool], broke: &mut Vec<usize>| {
@@ -447,13 +446,14 @@ impl DlsmBonds {
                         continue;
                     }
                     let f = (two_mu * (en + n * delta) + n * (lambda * trace)) * area[c];
-                    let contact_point = 0.5 * (oi + oj);
+                    // O_ij is halfway: O_ij − O_i = d/2 and O_ij − O_j = −d/2.
+                    let arm = (0.5 * d).cross(&f);
                     let theta = rotation_vector(&(frame[j] * frame[i].inverse()).into_inner());
                     let couple = theta * rot_k[c];
                     out[k] = ContactOut {
                         f,
-                        torque_first: (contact_point - pos[i]).cross(&f) + couple,
-                        torque_second: -(contact_point - pos[j]).cross(&f) - couple,
+                        torque_first: arm + couple,
+                        torque_second: arm - couple,
                     };
                 }
             };
@@ -517,21 +517,16 @@ impl DlsmBonds {
         self.strain[i]
     }
 
-    /// The seed of element i in the last evaluation (m).
-    pub fn seed_position(&self, i: usize) -> Vec3 {
-        self.seed_pos[i]
-    }
-
     /// The contact strain (Eq. 16–18) and stress (Eq. 20) of contact c in the last
     /// evaluation, world frame.
-    pub fn contact_state(&self, c: usize) -> (Sym, Sym) {
+    pub fn contact_state(&self, bodies: &Bodies, c: usize) -> (Sym, Sym) {
         let [i, j] = self.pair[c];
         let (a, b) = (&self.strain[i as usize], &self.strain[j as usize]);
         let mut e = [0.0; 6];
         for m in 0..6 {
             e[m] = 0.5 * (a[m] + b[m]);
         }
-        let d = self.seed_pos[j as usize] - self.seed_pos[i as usize];
+        let d = bodies.pos[j as usize] - bodies.pos[i as usize];
         let l = d.norm();
         let n = d / l;
         let em = mat_of(&e);
@@ -550,13 +545,13 @@ impl DlsmBonds {
     /// for the double pyramid from the two seeds to its face (volume S L0 / 3) at energy
     /// density σ:ε/2, plus the rotational springs K S θ²/2. The model's forces do not derive
     /// from a potential, so this is an estimate (exact for uniform strain).
-    pub fn strain_energy(&self) -> f64 {
+    pub fn strain_energy(&self, bodies: &Bodies) -> f64 {
         let mut total = 0.0;
         for c in 0..self.pair.len() {
             if self.broken[c] {
                 continue;
             }
-            let (e, s) = self.contact_state(c);
+            let (e, s) = self.contact_state(bodies, c);
             let density = 0.5
                 * (e[0] * s[0]
                     + e[1] * s[1]
@@ -573,10 +568,10 @@ impl DlsmBonds {
     }
 
     /// σxx = n·σn of contact c in the last evaluation (Pa), Eq. 35.
-    pub fn normal_stress(&self, c: usize) -> f64 {
-        let (_, s) = self.contact_state(c);
+    pub fn normal_stress(&self, bodies: &Bodies, c: usize) -> f64 {
+        let (_, s) = self.contact_state(bodies, c);
         let [i, j] = self.pair[c];
-        let n = (self.seed_pos[j as usize] - self.seed_pos[i as usize]).normalize();
+        let n = (bodies.pos[j as usize] - bodies.pos[i as usize]).normalize();
         n.dot(&(mat_of(&s) * n))
     }
 
@@ -655,15 +650,12 @@ mod tests {
     fn deform(
         cells: &[VoronoiCell],
         bodies: &mut Bodies,
-        bonds: &DlsmBonds,
         eps: &Matrix3<f64>,
         rot: &UnitQuaternion<f64>,
     ) {
         for (i, c) in cells.iter().enumerate() {
-            let seed = c.seed + eps * c.seed;
             bodies.orientation[i] = rot * bodies.orientation[i];
-            let r = bodies.orientation[i].to_rotation_matrix();
-            bodies.pos[i] = rot * seed - r * bonds.seed_offset[i];
+            bodies.pos[i] = rot * (c.seed + eps * c.seed);
         }
     }
 
@@ -673,13 +665,7 @@ mod tests {
         // Small enough that the geometric terms (O(ε²): current normals and lengths) stay
         // below 1e-6 of the forces.
         let eps = Matrix3::new(1.0, 0.3, -0.2, 0.3, -0.5, 0.1, -0.2, 0.1, 0.7) * 1e-7;
-        deform(
-            &cells,
-            &mut bodies,
-            &bonds,
-            &eps,
-            &UnitQuaternion::identity(),
-        );
+        deform(&cells, &mut bodies, &eps, &UnitQuaternion::identity());
         let mut forces = Forces::new(bodies.len());
         bonds.evaluate(&bodies, &mut forces, None);
         let (lambda, mu) = (bonds.lambda, 0.5 * bonds.two_mu);
@@ -710,7 +696,7 @@ mod tests {
         for c in 0..bonds.contacts() {
             let [i, j] = bonds.pair[c];
             let n = (cells[j as usize].seed - cells[i as usize].seed).normalize();
-            let (_, s) = bonds.contact_state(c);
+            let (_, s) = bonds.contact_state(&bodies, c);
             assert!(
                 (mat_of(&s) - sigma).norm() < 1e-5 * sigma.norm(),
                 "contact {c}"
@@ -724,7 +710,7 @@ mod tests {
     fn rigid_rotation_gives_no_strain_and_no_force() {
         let (cells, mut bodies, mut bonds) = sample(0.9, 300);
         let rot = UnitQuaternion::from_scaled_axis(Vec3::new(0.4, -1.1, 0.7));
-        deform(&cells, &mut bodies, &bonds, &Matrix3::zeros(), &rot);
+        deform(&cells, &mut bodies, &Matrix3::zeros(), &rot);
         let mut forces = Forces::new(bodies.len());
         bonds.evaluate(&bodies, &mut forces, None);
         for i in 0..bodies.len() {
@@ -746,13 +732,7 @@ mod tests {
         assert_eq!(bonds.active_neighbours(corner), 2);
         // Fewer than 3 neighbours: null displacement field, whatever the neighbours do.
         let eps = Matrix3::from_diagonal(&Vec3::new(1e-4, 2e-4, 3e-4));
-        deform(
-            &cells,
-            &mut bodies,
-            &bonds,
-            &eps,
-            &UnitQuaternion::identity(),
-        );
+        deform(&cells, &mut bodies, &eps, &UnitQuaternion::identity());
         let mut forces = Forces::new(bodies.len());
         bonds.evaluate(&bodies, &mut forces, None);
         assert_eq!(bonds.element_strain(corner), [0.0; 6]);
@@ -765,13 +745,7 @@ mod tests {
         // Uniaxial strain along x: σxx = (λ + 2μ) ε on x contacts, λ ε on the others.
         let e = 1e-4;
         let eps = Matrix3::from_diagonal(&Vec3::new(e, 0.0, 0.0));
-        deform(
-            &cells,
-            &mut bodies,
-            &bonds,
-            &eps,
-            &UnitQuaternion::identity(),
-        );
+        deform(&cells, &mut bodies, &eps, &UnitQuaternion::identity());
         let (lambda, two_mu) = (bonds.lambda, bonds.two_mu);
         let sxx = (lambda + two_mu) * e;
         let mut forces = Forces::new(bodies.len());

@@ -7,6 +7,8 @@ use crate::probe::Series;
 use crate::scene::{LoadingKind, Scene};
 use crate::state::{BoxFace, Walls};
 
+pub mod dlsm;
+
 /// How the boundaries move during the run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum Loading {
@@ -45,6 +47,15 @@ impl Loading {
                     end_strain: l.end_strain.expect("validated"),
                     height0: walls.box_size().z,
                 }
+            }
+            LoadingKind::Tension
+            | LoadingKind::FreeVibration
+            | LoadingKind::Brazilian
+            | LoadingKind::Drop => {
+                return Err(scene.key_error(
+                    "loading.kind",
+                    "is a dlsm loading, run by model.kind = \"dlsm\"",
+                ));
             }
         })
     }

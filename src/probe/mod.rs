@@ -1,6 +1,7 @@
 //! Measurements recorded during a run: the rows of series.csv.
 
 pub mod fragments;
+pub mod spectrum;
 
 use serde::{Deserialize, Serialize};
 

@@ -104,6 +104,18 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<S
             };
             (b, Walls::new_box(lo, hi))
         }
+        SampleKind::VoronoiBox
+        | SampleKind::VoronoiCylinder
+        | SampleKind::VoronoiDisc
+        | SampleKind::VoronoiBall => {
+            return Err(scene.key_error(
+                "sample.kind",
+                format!(
+                    "= \"{}\" is a dlsm sample, built by model.kind = \"dlsm\"",
+                    spec.kind.as_str()
+                ),
+            ));
+        }
     };
     if spec.kind == SampleKind::Random {
         for q in &mut bodies.orientation {

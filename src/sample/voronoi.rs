@@ -369,19 +369,25 @@ fn cell_from_voro(c: &mut VoroCellNbr, seed: &Vec3, s: f64) -> Result<VoronoiCel
     })
 }
 
-/// Rigid bodies for `cells` of material `density` (kg/m³), in the same order: each at its
-/// centroid, oriented along its principal axes of inertia, with its polyhedron in that
-/// principal frame (vertices relative to the centroid).
+/// Rigid bodies for `cells` of material `density` (kg/m³), in the same order. Each body's
+/// mass is lumped at its seed, the point O_i of the lattice model (the line between two
+/// seeds is normal to their shared face and cut by it halfway), with the cell's inertia
+/// tensor about that point (parallel axes from the centroid); it is oriented along the
+/// principal axes of that tensor, and its polyhedron is given in that principal frame,
+/// relative to the seed.
 pub fn elements(cells: &[VoronoiCell], density: f64) -> (Bodies, Vec<Polyhedron>) {
     let mut bodies = Bodies::default();
     let mut shapes = Vec::with_capacity(cells.len());
     for c in cells {
-        let (moments, q) = principal_axes(&c.inertia);
+        let d = c.centroid - c.seed;
+        let about_seed =
+            c.inertia + (Matrix3::identity() * d.norm_squared() - d * d.transpose()) * c.volume;
+        let (moments, q) = principal_axes(&about_seed);
         let shape = c
             .polyhedron
-            .mapped(|v| q.inverse_transform_vector(&(v - c.centroid)));
+            .mapped(|v| q.inverse_transform_vector(&(v - c.seed)));
         let radius = shape.bounding_radius(&Vec3::zeros());
-        bodies.push_polyhedron(c.centroid, density * c.volume, moments * density, q, radius);
+        bodies.push_polyhedron(c.seed, density * c.volume, moments * density, q, radius);
         shapes.push(shape);
     }
     (bodies, shapes)

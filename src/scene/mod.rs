@@ -4,6 +4,7 @@
 //! text -> TOML table -> `--set` overrides -> typed [`Scene`] (unknown keys rejected) ->
 //! range checks ([`validate`]). Every failure is one sentence naming the file and the key.
 
+mod dlsm;
 mod overrides;
 mod parse;
 mod validate;
@@ -82,6 +83,11 @@ pub struct Material {
     /// Normal coefficient of restitution e, in (0, 1] (used by the `damping` effect).
     #[serde(default = "one")]
     pub restitution: f64,
+    // dlsm
+    /// Tensile strength σf (Pa) of a cohesive contact (Eq. 36), for the `fracture` effect.
+    pub tensile_strength: Option<f64>,
+    /// Normal stiffness (N/m) of element–ground contacts (`contact` effect).
+    pub contact_stiffness: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -103,6 +109,14 @@ pub enum SampleKind {
     LammpsData,
     /// A YADE `ymport.text` / `export.textExt(..., 'x_y_z_r')` file: `x y z r` per line.
     YadeText,
+    /// dlsm: Voronoi cells filling a box.
+    VoronoiBox,
+    /// dlsm: Voronoi cells filling a cylinder along x.
+    VoronoiCylinder,
+    /// dlsm: Voronoi cells filling a disc in the x–y plane.
+    VoronoiDisc,
+    /// dlsm: Voronoi cells filling a ball.
+    VoronoiBall,
 }
 
 impl SampleKind {
@@ -114,6 +128,10 @@ impl SampleKind {
             SampleKind::Text => "text",
             SampleKind::LammpsData => "lammps_data",
             SampleKind::YadeText => "yade_text",
+            SampleKind::VoronoiBox => "voronoi_box",
+            SampleKind::VoronoiCylinder => "voronoi_cylinder",
+            SampleKind::VoronoiDisc => "voronoi_disc",
+            SampleKind::VoronoiBall => "voronoi_ball",
         }
     }
 }
@@ -147,6 +165,45 @@ pub struct SampleSpec {
     pub layers: Option<[usize; 3]>,
     /// Packing file (text, lammps_data), relative to the scene file.
     pub file: Option<String>,
+    // dlsm
+    /// How Voronoi seeds are placed.
+    pub method: Option<SampleMethod>,
+    /// Noise range d of the noisy grid, in [0, 1] (Section 7.1).
+    pub noise: Option<f64>,
+    /// About how many Voronoi elements to make.
+    pub elements: Option<usize>,
+    /// Edge of a cubic box, or length of a cylinder (m).
+    pub length: Option<f64>,
+    /// Radius of a cylinder or ball (m).
+    pub radius: Option<f64>,
+    /// Diameter of a disc (m).
+    pub diameter: Option<f64>,
+    /// Thickness of a disc (m).
+    pub thickness: Option<f64>,
+    /// Relative half-width δ of the uniform radius distribution of the packing method.
+    pub radius_dispersion: Option<f64>,
+}
+
+/// dlsm: where Voronoi seeds come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleMethod {
+    /// One seed per cell of a regular grid, moved by a uniform noise (Section 7.1).
+    NoisyGrid,
+    /// Centres of a sphere packing with dispersed radii (Section 7.2).
+    Packing,
+    /// A regular cubic grid (the noisy grid with d = 0).
+    Grid,
+}
+
+impl SampleMethod {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SampleMethod::NoisyGrid => "noisy_grid",
+            SampleMethod::Packing => "packing",
+            SampleMethod::Grid => "grid",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
@@ -155,6 +212,8 @@ pub enum ModelKind {
     /// Spheres (and, with fracture, poly-ellipsoids) with Hertz–Mindlin contacts.
     #[default]
     Granular,
+    /// Voronoi polyhedra joined by the distinct lattice spring model (brittle elastic solid).
+    Dlsm,
 }
 
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -176,6 +235,9 @@ pub enum EffectKind {
     Friction,
     /// Body force m·g.
     Gravity,
+    /// dlsm: cohesive contacts break for good when σxx > σf (Eq. 36) and turn into
+    /// frictional, non-cohesive polyhedron contacts.
+    Fracture,
 }
 
 impl EffectKind {
@@ -185,6 +247,7 @@ impl EffectKind {
             EffectKind::Damping => "damping",
             EffectKind::Friction => "friction",
             EffectKind::Gravity => "gravity",
+            EffectKind::Fracture => "fracture",
         }
     }
 }
@@ -197,6 +260,25 @@ pub enum LoadingKind {
     /// Oedometric compression: the top (+z) wall moves down at a constant strain rate, the
     /// other five walls are fixed.
     Oedometer,
+    /// dlsm: the elements on the x− and x+ faces of a box move apart along x (Section 8.2.1).
+    Tension,
+    /// dlsm: a cylinder released from a static tension or torsion field, x− face clamped
+    /// (Section 8.2.2).
+    FreeVibration,
+    /// dlsm: a disc squeezed across its vertical (y) diameter (Section 8.2.4).
+    Brazilian,
+    /// dlsm: a body thrown onto an inclined ground plane (Section 8.1).
+    Drop,
+}
+
+/// dlsm: the static field a free vibration starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VibrationMode {
+    /// u = A x.
+    Tension,
+    /// A twist of α rad/m about the x axis.
+    Torsion,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -209,6 +291,28 @@ pub struct LoadingSpec {
     pub end_strain: Option<f64>,
     /// Duration of the run (s) for `kind = "none"`.
     pub end_time: Option<f64>,
+    // dlsm
+    /// Time (s) over which prescribed speeds rise smoothly from zero (tension, brazilian).
+    pub ramp_time: Option<f64>,
+    /// Speed (m/s) of each loaded side of a Brazilian disc.
+    pub speed: Option<f64>,
+    /// Loading arc 2α (degrees) of the Brazilian test; 0 loads the top and bottom elements.
+    pub arc_degrees: Option<f64>,
+    /// With `fracture`: the run ends once the load has fallen below this fraction of its
+    /// peak (0: never early).
+    pub stop_fraction: Option<f64>,
+    /// The static field a free vibration starts from.
+    pub mode: Option<VibrationMode>,
+    /// Initial strain A of a free vibration in tension.
+    pub initial_strain: Option<f64>,
+    /// Initial twist α (rad/m) of a free vibration in torsion.
+    pub twist: Option<f64>,
+    /// Initial velocity (m/s) of a dropped body.
+    pub initial_velocity: Option<[f64; 3]>,
+    /// Inclination (degrees) of the ground plane, descending towards +x.
+    pub ground_angle_degrees: Option<f64>,
+    /// Gap (m) between the dropped body and the ground at the start.
+    pub drop_height: Option<f64>,
 }
 
 /// The time step: a number of seconds, or "auto" for the Rayleigh critical step × safety.
@@ -224,6 +328,8 @@ pub enum DtSpec {
 pub enum IntegratorKind {
     #[default]
     VelocityVerlet,
+    /// dlsm: Tchamwa–Wielgosz with `time.phi` (Eq. 37–38).
+    TchamwaWielgosz,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -236,6 +342,9 @@ pub struct TimeSpec {
     pub safety: f64,
     #[serde(default)]
     pub integrator: IntegratorKind,
+    // dlsm
+    /// φ of the Tchamwa–Wielgosz scheme, ≥ 0.5 (0.5 is velocity Verlet).
+    pub phi: Option<f64>,
 }
 
 fn default_safety() -> f64 {
@@ -248,6 +357,7 @@ impl Default for TimeSpec {
             dt: DtSpec::Auto,
             safety: default_safety(),
             integrator: IntegratorKind::VelocityVerlet,
+            phi: None,
         }
     }
 }

@@ -1,6 +1,6 @@
 //! Range checks: each failure names the key, its value and the allowed range.
 
-use super::{DtSpec, EffectKind, LoadingKind, SampleKind, Scene};
+use super::{DtSpec, EffectKind, LoadingKind, SampleKind, Scene, dlsm};
 use crate::error::Result;
 
 /// An allowed interval, printed in the usual notation: (a, b] and so on.
@@ -69,7 +69,7 @@ impl std::fmt::Display for Range {
     }
 }
 
-fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> Result<()> {
+pub(super) fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> Result<()> {
     if range.contains(value) {
         Ok(())
     } else {
@@ -85,7 +85,7 @@ fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> Resu
     }
 }
 
-fn require<T: Copy>(scene: &Scene, key: &str, value: Option<T>, why: &str) -> Result<T> {
+pub(super) fn require<T: Copy>(scene: &Scene, key: &str, value: Option<T>, why: &str) -> Result<T> {
     value.ok_or_else(|| scene.key_error(key, format!("is required {why}")))
 }
 
@@ -118,6 +118,10 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
             let end = require(s, "loading.end_strain", l.end_strain, why)?;
             check(s, "loading.end_strain", end, Range::open(0.0, 1.0), "")?;
         }
+        LoadingKind::Tension
+        | LoadingKind::FreeVibration
+        | LoadingKind::Brazilian
+        | LoadingKind::Drop => dlsm::validate_loading(s)?,
         LoadingKind::None => {
             let end = require(
                 s,
@@ -156,6 +160,7 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
     if let Some(skin) = s.neighbor.skin {
         check(s, "neighbor.skin", skin, Range::POSITIVE, "m")?;
     }
+    dlsm::validate_model(s)?;
     Ok(())
 }
 
@@ -241,6 +246,10 @@ fn validate_sample(s: &Scene) -> Result<()> {
                 return Err(s.key_error("sample.file", format!("is required {why}")));
             }
         }
+        SampleKind::VoronoiBox
+        | SampleKind::VoronoiCylinder
+        | SampleKind::VoronoiDisc
+        | SampleKind::VoronoiBall => dlsm::validate_sample(s)?,
     }
     Ok(())
 }
