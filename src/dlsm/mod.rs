@@ -573,9 +573,8 @@ fn build_loading(scene: &Scene, s: &DlsmSample) -> Result<DlsmLoading> {
             })
         }
         LoadingKind::FreeVibration => {
-            let Domain::Cylinder { length, .. } = s.domain else {
-                unreachable!("validated: free vibration needs a cylinder")
-            };
+            // The bar's length: the sample was made longer by the clamp's grip.
+            let length = scene.sample.length.expect("validated");
             let mode = l.mode.expect("validated");
             let clamped = s.elements_on(Boundary::XMin);
             let free = s.elements_on(Boundary::XMax);

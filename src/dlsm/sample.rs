@@ -9,7 +9,7 @@ use crate::sample::voronoi::{
     Boundary, Domain, Fabric, Neighbour, elements, face_normal_fabric, noisy_grid_seeds,
     packing_seeds, tessellate,
 };
-use crate::scene::{SampleKind, SampleMethod, Scene};
+use crate::scene::{LoadingKind, SampleKind, SampleMethod, Scene};
 use crate::shape::polyhedron::Polyhedron;
 use crate::state::{Bodies, Vec3};
 
@@ -64,10 +64,13 @@ pub struct DlsmSample {
 pub fn domain(scene: &Scene) -> Domain {
     let p = &scene.sample;
     match p.kind {
-        SampleKind::VoronoiCylinder => Domain::Cylinder {
-            length: p.length.expect("validated"),
-            radius: p.radius.expect("validated"),
-        },
+        SampleKind::VoronoiCylinder => {
+            let (length, radius) = (p.length.expect("validated"), p.radius.expect("validated"));
+            Domain::Cylinder {
+                length: length + clamp_grip(scene, length, radius),
+                radius,
+            }
+        }
         SampleKind::VoronoiDisc => Domain::Disc {
             diameter: p.diameter.expect("validated"),
             thickness: p.thickness.expect("validated"),
@@ -86,6 +89,18 @@ pub fn domain(scene: &Scene) -> Domain {
             }
         }
     }
+}
+
+/// A clamped cylinder (free vibration) is held by its elements on x−, whose seeds lie about
+/// half an element inside: the cylinder is made this much longer (half the mean element
+/// size) and then shifted so that the held seeds sit on x = 0, where the clamped section of
+/// a bar of length `sample.length` is.
+fn clamp_grip(scene: &Scene, length: f64, radius: f64) -> f64 {
+    if scene.loading.kind != LoadingKind::FreeVibration {
+        return 0.0;
+    }
+    let n = scene.sample.elements.expect("validated") as f64;
+    0.5 * (std::f64::consts::PI * radius * radius * length / n).cbrt()
 }
 
 /// Builds the sample of a dlsm scene.
@@ -121,8 +136,27 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<D
         ));
     }
     progress(&format!("tessellating {} Voronoi cells", seeds.len()));
-    let cells = tessellate(&seeds, &domain)
+    let mut cells = tessellate(&seeds, &domain)
         .map_err(|m| scene.key_error("sample", format!("cannot be tessellated: {m}")))?;
+    let mut seeds = seeds;
+    if scene.loading.kind == LoadingKind::FreeVibration {
+        let held: Vec<f64> = cells
+            .iter()
+            .filter(|c| {
+                c.faces
+                    .iter()
+                    .any(|f| f.neighbour == Neighbour::Boundary(Boundary::XMin))
+            })
+            .map(|c| c.seed.x)
+            .collect();
+        let shift = Vec3::new(-held.iter().sum::<f64>() / held.len().max(1) as f64, 0.0, 0.0);
+        for c in &mut cells {
+            c.translate(&shift);
+        }
+        for p in &mut seeds {
+            *p += shift;
+        }
+    }
     let m = &scene.material;
     let (bodies, shapes) = elements(&cells, m.density);
     let bonds = DlsmBonds::from_cells(&cells, &bodies, m.young, m.poisson);

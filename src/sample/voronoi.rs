@@ -94,6 +94,16 @@ pub struct VoronoiCell {
     pub faces: Vec<CellFace>,
 }
 
+impl VoronoiCell {
+    /// Moves the cell by `d`.
+    pub fn translate(&mut self, d: &Vec3) {
+        self.seed += d;
+        self.centroid += d;
+        self.polyhedron.vertices.iter_mut().for_each(|v| *v += d);
+        self.faces.iter_mut().for_each(|f| f.centroid += d);
+    }
+}
+
 impl Domain {
     /// The bounding box [lo, hi].
     pub fn bounds(&self) -> (Vec3, Vec3) {
