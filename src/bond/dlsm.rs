@@ -96,7 +96,6 @@ pub struct DlsmBonds {
     rot_stiffness: Vec<f64>,
     pub broken: Vec<bool>,
     // Scratch of the last evaluation.
-    rot: Vec<Matrix3<f64>>,
     frame: Vec<UnitQuaternion<f64>>,
     strain: Vec<Sym>,
     out: Vec<ContactOut>,
@@ -196,7 +195,6 @@ impl DlsmBonds {
             length0,
             rot_stiffness,
             broken: vec![false; contacts],
-            rot: vec![Matrix3::identity(); n],
             frame: vec![UnitQuaternion::identity(); n],
             strain: vec![[0.0; 6]; n],
             out: vec![ContactOut::default(); contacts],
@@ -337,31 +335,28 @@ impl DlsmBonds {
         broke
     }
 
-    /// Pass 1: rotation and rotation since the start of every element.
+    /// Pass 1: every element's rotation since the start.
     fn frames(&mut self, bodies: &Bodies) {
         let orientation = &bodies.orientation;
         let frame0_inv = &self.frame0_inv;
-        let work = |i0: usize, rot: &mut [Matrix3<f64>], frame: &mut [UnitQuaternion<f64>]| {
-            for k in 0..rot.len() {
-                let q = orientation[i0 + k];
-                rot[k] = *q.to_rotation_matrix().matrix();
-                frame[k] = q * frame0_inv[i0 + k];
+        let work = |i0: usize, frame: &mut [UnitQuaternion<f64>]| {
+            for (k, f) in frame.iter_mut().enumerate() {
+                *f = orientation[i0 + k] * frame0_inv[i0 + k];
             }
         };
-        if parallel(self.rot.len()) {
-            self.rot
+        if parallel(self.frame.len()) {
+            self.frame
                 .par_chunks_mut(CHUNK)
-                .zip(self.frame.par_chunks_mut(CHUNK))
                 .enumerate()
-                .for_each(|(c, (r, f))| work(c * CHUNK, r, f));
+                .for_each(|(c, f)| work(c * CHUNK, f));
         } else {
-            work(0, &mut self.rot, &mut self.frame);
+            work(0, &mut self.frame);
         }
     }
 
     /// Pass 2: every element's strain (world frame), Eq. 1–15.
     fn strains(&mut self, seed: &[Vec3]) {
-        let (start, entries, rot) = (&self.start, &self.entries, &self.rot);
+        let (start, entries) = (&self.start, &self.entries);
         let (proj, full) = (&self.proj, &self.full_rank);
         let work = |i0: usize, out: &mut [Sym]| {
             for (k, e) in out.iter_mut().enumerate() {
@@ -374,18 +369,19 @@ impl DlsmBonds {
                     g += d * en.w.transpose();
                 }
                 // In i's frame the neighbourhood has moved by F = Rᵀ G = P + H (H: the
-                // least-squares gradient, Eq. 7). Its strain, ½(FᵀF − P) = sym(H) + ½HᵀH, is
-                // Eq. 15 to first order and, unlike sym(H) alone, blind to a rotation of the
-                // element relative to its neighbours (FᵀF = GᵀG); it is then turned from the
-                // element's frame to the world, R E Rᵀ.
-                let r = &rot[i];
+                // least-squares gradient, Eq. 7). Its strain, E = ½(FᵀF − P) = sym(H) + ½HᵀH,
+                // is Eq. 15 to first order; unlike sym(H) alone it does not depend on R (FᵀF
+                // = GᵀG), so an element turning relative to its neighbours strains nothing.
+                // It is carried to the world by the neighbourhood's own motion, R F E Fᵀ Rᵀ =
+                // G E Gᵀ (R E Rᵀ to first order in the strain), so that forces follow the
+                // material even where the element's rotation lags behind it.
                 let mut green = g.tr_mul(&g);
                 if full[i] {
                     green -= Matrix3::identity();
                 } else {
                     green -= mat_of(&proj[i]);
                 }
-                *e = sym_of(&(r * (green * 0.5) * r.transpose()));
+                *e = sym_of(&(g * (green * 0.5) * g.transpose()));
             }
         };
         if parallel(self.strain.len()) {

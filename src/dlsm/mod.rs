@@ -671,13 +671,6 @@ fn build_loading(scene: &Scene, s: &DlsmSample) -> Result<DlsmLoading> {
                 .map(|(p, m)| p * *m)
                 .sum::<Vec3>()
                 / total;
-            let tracked = (0..s.bodies.len())
-                .min_by(|&a, &b| {
-                    (s.bodies.pos[a] - centre)
-                        .norm()
-                        .total_cmp(&(s.bodies.pos[b] - centre).norm())
-                })
-                .unwrap_or(0);
             let gravity = if scene.has_effect(EffectKind::Gravity) {
                 Vec3::from(scene.gravity.acceleration)
             } else {
@@ -690,9 +683,9 @@ fn build_loading(scene: &Scene, s: &DlsmSample) -> Result<DlsmLoading> {
                 downslope,
                 roll_axis: normal.cross(&downslope),
                 gravity,
-                tracked: tracked as u32,
-                last_frame: s.bodies.orientation[tracked],
                 turns: 0.0,
+                last_spin: 0.0,
+                last_time: 0.0,
                 centre0: centre,
             })
         }

@@ -6,12 +6,11 @@
 //! is zeroed after the force evaluation, so the integrator keeps the prescribed value; the
 //! force removed is the reaction, the load the machine applies.
 
-use nalgebra::UnitQuaternion;
+use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::least_squares_slope;
-use crate::bond::dlsm::rotation_vector;
 use crate::probe::Series;
 use crate::probe::spectrum::dominant_frequency;
 use crate::scene::VibrationMode;
@@ -107,11 +106,10 @@ pub struct Drop {
     pub downslope: Vec3,
     pub roll_axis: Vec3,
     pub gravity: Vec3,
-    /// The element nearest the centre, whose turning is counted.
-    pub tracked: u32,
-    pub last_frame: UnitQuaternion<f64>,
-    /// Turns about `roll_axis` so far.
+    /// Turns about `roll_axis` so far, and the body's angular velocity at the last row.
     pub turns: f64,
+    pub last_spin: f64,
+    pub last_time: f64,
     pub centre0: Vec3,
 }
 
@@ -329,19 +327,34 @@ impl DlsmLoading {
                 ]
             }
             DlsmLoading::Drop(d) => {
-                let q = b.orientation[d.tracked as usize];
-                let turn = rotation_vector(&(q * d.last_frame.inverse()).into_inner());
-                d.turns += turn.dot(&d.roll_axis) / std::f64::consts::TAU;
-                d.last_frame = q;
                 let mut mass = 0.0;
                 let mut centre = Vec3::zeros();
+                let mut momentum = Vec3::zeros();
                 let mut potential = 0.0;
                 for i in 0..b.len() {
                     mass += b.mass[i];
                     centre += b.pos[i] * b.mass[i];
+                    momentum += b.vel[i] * b.mass[i];
                     potential -= b.mass[i] * d.gravity.dot(&(b.pos[i] - r.reference[i]));
                 }
                 centre /= mass;
+                // The body's rigid rotation: its angular momentum about the centre of mass
+                // over its inertia tensor there (the elements' positions, not their spins).
+                let vc = momentum / mass;
+                let mut l = Vec3::zeros();
+                let mut inertia = Matrix3::zeros();
+                for i in 0..b.len() {
+                    let x = b.pos[i] - centre;
+                    l += x.cross(&(b.vel[i] - vc)) * b.mass[i];
+                    inertia += (Matrix3::identity() * x.norm_squared() - x * x.transpose()) * b.mass[i];
+                }
+                let spin = inertia
+                    .try_inverse()
+                    .map_or(0.0, |inv| (inv * l).dot(&d.roll_axis));
+                // Trapezoidal turning between rows.
+                d.turns += 0.5 * (spin + d.last_spin) * (r.time - d.last_time) / std::f64::consts::TAU;
+                d.last_spin = spin;
+                d.last_time = r.time;
                 let total = ke + potential + r.strain_energy + r.contact_energy;
                 vec![
                     r.time,
