@@ -14,6 +14,7 @@
 //! Only the effects the scene lists are built: without `fracture` no contact can break and
 //! no polyhedron contact is looked for; without `contact` there is no ground.
 
+pub mod bench;
 pub mod sample;
 
 use std::fmt::Write;
@@ -73,8 +74,10 @@ pub struct DlsmRun {
     /// `fracture`: the strength and the contacts broken bonds leave.
     pub tensile_strength: Option<f64>,
     pub broken: Option<BrokenContacts>,
-    /// Broken contacts in the order they broke.
+    /// Broken contacts in the order they broke, with the step and the midpoint of the two
+    /// seeds at breaking.
     pub broken_order: Vec<u32>,
+    pub break_log: Vec<(u64, Vec3)>,
     pub first_break: Option<FirstBreak>,
     /// `contact` (with `friction`): the ground.
     pub ground: Option<GroundContact>,
@@ -101,6 +104,7 @@ struct DlsmState {
     bodies: Bodies,
     forces: Forces,
     broken_order: Vec<u32>,
+    break_log: Vec<(u64, Vec3)>,
     first_break: Option<FirstBreak>,
     broken: Option<BrokenContacts>,
     ground: Option<GroundContact>,
@@ -168,6 +172,7 @@ impl DlsmRun {
         run.bodies = state.bodies;
         run.forces = state.forces;
         run.broken_order = state.broken_order;
+        run.break_log = state.break_log;
         run.first_break = state.first_break;
         if run.broken.is_some() {
             run.broken = state.broken;
@@ -268,6 +273,7 @@ impl DlsmRun {
             tensile_strength,
             broken,
             broken_order: Vec::new(),
+            break_log: Vec::new(),
             first_break: None,
             ground,
             gravity,
@@ -334,6 +340,11 @@ impl DlsmRun {
         }
         for &c in broke {
             self.broken_order.push(c as u32);
+            let [i, j] = self.bonds.pair[c];
+            self.break_log.push((
+                self.step,
+                0.5 * (self.bodies.pos[i as usize] + self.bodies.pos[j as usize]),
+            ));
             if let Some(b) = &mut self.broken {
                 let k = self.bonds.young * self.bonds.area[c] / self.bonds.length0[c];
                 b.add(self.bonds.pair[c], k);
@@ -448,8 +459,20 @@ impl DlsmRun {
                 serde_json::json!([fb.position.x, fb.position.y, fb.position.z]),
             );
             if let Domain::Disc { diameter, .. } = self.domain {
-                let offset = fb.position.x.hypot(fb.position.y) / diameter;
-                m.insert("crack_start_offset".into(), offset.into());
+                let offset = |p: &Vec3| p.x.hypot(p.y) / diameter;
+                m.insert("crack_start_offset".into(), offset(&fb.position).into());
+                // The macroscopic crack: the first contact to break once the load is within
+                // 5% of its peak (isolated breaks under the loading arcs come earlier).
+                if let Some(force) = self.series.column("force") {
+                    let peak = force.iter().copied().fold(0.0, f64::max);
+                    let row_step = |k: usize| (self.series.rows[k][0] / self.dt).round() as u64;
+                    if let Some(k) = force.iter().position(|&f| f >= 0.95 * peak) {
+                        let from = if k > 0 { row_step(k - 1) } else { 0 };
+                        if let Some((_, p)) = self.break_log.iter().find(|(s, _)| *s >= from) {
+                            m.insert("main_crack_start_offset".into(), offset(p).into());
+                        }
+                    }
+                }
             }
         }
         Value::Object(m)
@@ -741,6 +764,7 @@ impl Run for DlsmRun {
             bodies: self.bodies.clone(),
             forces: self.forces.clone(),
             broken_order: self.broken_order.clone(),
+            break_log: self.break_log.clone(),
             first_break: self.first_break,
             broken: self.broken.clone(),
             ground: self.ground.clone(),

@@ -149,7 +149,11 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<D
             })
             .map(|c| c.seed.x)
             .collect();
-        let shift = Vec3::new(-held.iter().sum::<f64>() / held.len().max(1) as f64, 0.0, 0.0);
+        let shift = Vec3::new(
+            -held.iter().sum::<f64>() / held.len().max(1) as f64,
+            0.0,
+            0.0,
+        );
         for c in &mut cells {
             c.translate(&shift);
         }

@@ -2,10 +2,7 @@
 //! integrators go with which model.
 
 use super::validate::{Range, check, require};
-use super::{
-    EffectKind, IntegratorKind, LoadingKind, ModelKind, SampleKind, SampleMethod, Scene,
-    VibrationMode,
-};
+use super::{EffectKind, IntegratorKind, LoadingKind, ModelKind, SampleKind, Scene, VibrationMode};
 use crate::error::Result;
 
 fn is_voronoi(kind: SampleKind) -> bool {
@@ -50,29 +47,12 @@ pub(super) fn validate_sample(s: &Scene) -> Result<()> {
             format!("= {n} is outside the allowed range [8, ∞)"),
         ));
     }
-    let method = p.method.unwrap_or(SampleMethod::NoisyGrid);
+    // Each applies to its method only and is ignored by the others, so that one scene can
+    // switch methods with --set.
     if let Some(d) = p.noise {
-        if method != SampleMethod::NoisyGrid {
-            return Err(s.key_error(
-                "sample.noise",
-                format!(
-                    "applies to sample.method = \"noisy_grid\", not \"{}\"",
-                    method.as_str()
-                ),
-            ));
-        }
         check(s, "sample.noise", d, Range::closed(0.0, 1.0), "")?;
     }
     if let Some(delta) = p.radius_dispersion {
-        if method != SampleMethod::Packing {
-            return Err(s.key_error(
-                "sample.radius_dispersion",
-                format!(
-                    "applies to sample.method = \"packing\", not \"{}\"",
-                    method.as_str()
-                ),
-            ));
-        }
         check(
             s,
             "sample.radius_dispersion",
