@@ -101,7 +101,7 @@ impl GroundContact {
         let friction = !self.history.is_empty();
         self.contacts = 0;
         self.energy = 0.0;
-        for i in 0..bodies.len() {
+        for (i, shape) in shapes.iter().enumerate().take(bodies.len()) {
             let x = bodies.pos[i];
             if n.dot(&(x - self.point)) > bodies.radius[i] {
                 if friction {
@@ -110,7 +110,7 @@ impl GroundContact {
                 continue;
             }
             let r = bodies.orientation[i].to_rotation_matrix();
-            let deepest = x + r * shapes[i].support(&r.inverse_transform_vector(&(-n)));
+            let deepest = x + r * shape.support(&r.inverse_transform_vector(&(-n)));
             let depth = -n.dot(&(deepest - self.point));
             if depth <= 0.0 {
                 if friction {

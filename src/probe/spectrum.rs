@@ -11,7 +11,7 @@ use rustfft::num_complex::Complex;
 /// samples or a constant signal.
 pub fn dominant_frequency(values: &[f64], dt: f64) -> Option<f64> {
     let n = values.len();
-    if n < 8 || !(dt > 0.0) {
+    if n < 8 || dt.is_nan() || dt <= 0.0 {
         return None;
     }
     let mean = values.iter().sum::<f64>() / n as f64;
