@@ -85,7 +85,7 @@ const OMEGA_DT_WARN: f64 = 1.6;
 
 /// A pool of `threads` workers (0: one per core), or none for a single thread: then the run
 /// stays on the caller's thread and never hands work across threads.
-fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
+pub(crate) fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
     let threads = if threads == 0 {
         std::thread::available_parallelism().map_or(1, |n| n.get())
     } else {
@@ -102,7 +102,10 @@ fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
 }
 
 /// Runs `f` on the pool's threads, or right here without one.
-fn on_threads<R: Send>(pool: &Option<Arc<rayon::ThreadPool>>, f: impl FnOnce() -> R + Send) -> R {
+pub(crate) fn on_threads<R: Send>(
+    pool: &Option<Arc<rayon::ThreadPool>>,
+    f: impl FnOnce() -> R + Send,
+) -> R {
     match pool {
         Some(p) => p.install(f),
         None => f(),

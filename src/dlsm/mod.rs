@@ -34,9 +34,10 @@ use crate::loading::dlsm::{
 use crate::output::vtk;
 use crate::probe::Series;
 use crate::run::{self, Run};
-use crate::sample::voronoi::{Boundary, Domain};
+use crate::sample::voronoi::{BOX_FACES, Boundary, Domain};
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, LoadingKind, Scene, VibrationMode};
 use crate::shape::polyhedron::Polyhedron;
+use crate::simulation::{on_threads, thread_pool};
 use crate::state::{Bodies, Forces, Vec3};
 use sample::{DlsmSample, DlsmSampleInfo};
 
@@ -115,29 +116,6 @@ struct DlsmState {
     dt: f64,
     stopped: bool,
     warnings: Vec<String>,
-}
-
-fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
-    let threads = if threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        threads
-    };
-    if threads <= 1 {
-        return Ok(None);
-    }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map(|p| Some(Arc::new(p)))
-        .map_err(|e| Error::run(format!("cannot start {threads} worker threads ({e})")))
-}
-
-fn on_threads<R: Send>(pool: &Option<Arc<rayon::ThreadPool>>, f: impl FnOnce() -> R + Send) -> R {
-    match pool {
-        Some(p) => p.install(f),
-        None => f(),
-    }
 }
 
 impl DlsmRun {
@@ -552,15 +530,7 @@ fn build_loading(scene: &Scene, s: &DlsmSample) -> Result<DlsmLoading> {
                 unreachable!("validated: tension needs a box")
             };
             let size = hi - lo;
-            let faces = [
-                Boundary::XMin,
-                Boundary::XMax,
-                Boundary::YMin,
-                Boundary::YMax,
-                Boundary::ZMin,
-                Boundary::ZMax,
-            ]
-            .map(|b| s.elements_on(b));
+            let faces = BOX_FACES.map(|b| s.elements_on(b));
             for (set, name) in faces.iter().zip(["x-", "x+", "y-", "y+", "z-", "z+"]) {
                 nonempty(set, name)?;
             }

@@ -46,7 +46,8 @@ pub enum Boundary {
     Curved,
 }
 
-const BOUNDARIES: [Boundary; 6] = [
+/// The six faces of a box domain, in voro++'s order of wall ids (−1 … −6).
+pub const BOX_FACES: [Boundary; 6] = [
     Boundary::XMin,
     Boundary::XMax,
     Boundary::YMin,
@@ -359,7 +360,7 @@ fn cell_from_voro(c: &mut VoroCellNbr, seed: &Vec3, s: f64) -> Result<VoronoiCel
         let neighbour = match id {
             id if id >= 0 => Neighbour::Cell(id as usize),
             CURVED_WALL_ID => Neighbour::Boundary(Boundary::Curved),
-            id if (-6..=-1).contains(&id) => Neighbour::Boundary(BOUNDARIES[(-1 - id) as usize]),
+            id if (-6..=-1).contains(&id) => Neighbour::Boundary(BOX_FACES[(-1 - id) as usize]),
             other => return Err(format!("voro++ gave an unknown wall id {other}")),
         };
         cell_faces.push(CellFace {
