@@ -32,7 +32,12 @@ fn run(file: &str, overrides: &[String]) -> (DlsmRun, Value) {
     let started = std::time::Instant::now();
     let mut run = DlsmRun::new(scene, 2, &mut |m| eprintln!("  {m}")).expect("run");
     while !run.finished() {
-        run.advance(20_000).expect("finite");
+        if let Err(e) = run.advance(20_000) {
+            // An unstable run is a result too: say where it stopped.
+            let mut s = run.summary();
+            s["error"] = json!(e.to_string());
+            return (run, s);
+        }
         eprintln!("  step {} of {}", run.step, run.end_step);
     }
     let mut s = run.summary();
@@ -199,6 +204,96 @@ fn main() {
                     "stress (MPa)",
                     &lines,
                 );
+            }
+            "table3plot" => {
+                // Table 3 again from results.jsonl (after a run that stopped early).
+                let text =
+                    std::fs::read_to_string(repo().join("target/dlsm-validation/results.jsonl"))
+                        .unwrap_or_default();
+                let (mut pts_e, mut pts_nu) = (Vec::new(), Vec::new());
+                for line in text.lines() {
+                    let v: Value = serde_json::from_str(line).unwrap();
+                    let case = v["case"].as_str().unwrap_or("");
+                    if let Some(nu) = case.strip_prefix("table3 nu=") {
+                        let nu: f64 = nu.parse().unwrap();
+                        if let (Some(e), Some(p)) = (
+                            v["result"]["apparent_young"].as_f64(),
+                            v["result"]["apparent_poisson"].as_f64(),
+                        ) {
+                            if v["result"].get("error").is_none() {
+                                pts_e.push((nu, e / 1e9));
+                                pts_nu.push((nu, p - nu));
+                            }
+                        }
+                    }
+                }
+                pts_e.sort_by(|a, b| a.0.total_cmp(&b.0));
+                pts_nu.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let paper = [
+                    (0.49, 20.973),
+                    (0.45, 20.267),
+                    (0.4, 20.164),
+                    (0.3, 20.141),
+                    (0.2, 20.117),
+                    (0.1, 20.095),
+                    (0.0, 20.078),
+                    (-0.1, 20.064),
+                    (-0.2, 20.055),
+                    (-0.3, 20.051),
+                    (-0.4, 20.053),
+                    (-0.5, 20.065),
+                    (-0.6, 20.089),
+                    (-0.7, 20.140),
+                    (-0.8, 20.251),
+                    (-0.95, 21.266),
+                ];
+                let mut paper: Vec<(f64, f64)> = paper.to_vec();
+                paper.sort_by(|a, b| a.0.total_cmp(&b.0));
+                plot(
+                    "dlsm_table3_young.svg",
+                    "Apparent E, input 20 GPa (Table 3)",
+                    "input nu",
+                    "E (GPa)",
+                    &[
+                        ("Fractum, 11,000 cells".into(), pts_e),
+                        ("paper".into(), paper),
+                    ],
+                );
+                plot(
+                    "dlsm_table3_poisson.svg",
+                    "Apparent nu minus input nu (Table 3)",
+                    "input nu",
+                    "error",
+                    &[("Fractum, 11,000 cells".into(), pts_nu)],
+                );
+            }
+            "table3x" => {
+                // The extreme rows again with a shorter step: Eq. 39 scales with E, but the
+                // lattice's stiffness grows like λ + 2μ as ν → 0.5 or −1.
+                for nu in [0.49, -0.95, -0.99] {
+                    let (_, s) = run(
+                        "scenes/dlsm_tensile.toml",
+                        &[
+                            format!("material.poisson={nu}"),
+                            "time.safety=0.05".to_string(),
+                        ],
+                    );
+                    record(
+                        &format!("table3x nu={nu} safety=0.05"),
+                        pick(
+                            &s,
+                            &[
+                                "elements",
+                                "steps",
+                                "dt",
+                                "apparent_young",
+                                "apparent_poisson",
+                                "wall_seconds",
+                                "error",
+                            ],
+                        ),
+                    );
+                }
             }
             "table3" => {
                 let mut pts_e = Vec::new();
