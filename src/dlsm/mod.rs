@@ -20,7 +20,6 @@ pub mod sample;
 use std::fmt::Write;
 use std::sync::Arc;
 
-use nalgebra::UnitQuaternion;
 use serde::{Deserialize, Serialize};
 use serde_json::Value;
 
@@ -56,7 +55,7 @@ pub struct FirstBreak {
     pub contact: usize,
     /// Midpoint of the two seeds (m).
     pub position: Vec3,
-    /// σxx (Pa) of the contact just before (the criterion value it exceeded is σf).
+    /// Time of the step it broke in (s).
     pub time: f64,
 }
 
@@ -238,7 +237,6 @@ impl DlsmRun {
             let v0 = Vec3::from(scene.loading.initial_velocity.unwrap_or([0.0; 3]));
             bodies.vel.iter_mut().for_each(|v| *v = v0);
         }
-        let _ = domain;
         Ok(DlsmRun {
             forces: Forces::new(bodies.len()),
             bodies,
@@ -901,6 +899,5 @@ pub fn explain(scene: &Scene) -> Result<String> {
         "outputs: series.csv row every {} steps, {vtk}, summary.json at the end",
         scene.output.every
     );
-    let _ = UnitQuaternion::<f64>::identity();
     Ok(s)
 }
