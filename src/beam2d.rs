@@ -213,6 +213,9 @@ impl Beam2dRun {
                 3 * polygons.len(),
                 scene.has_effect(EffectKind::Damping) || scene.has_effect(EffectKind::Friction),
             )),
+            IntegratorKind::TchamwaWielgosz => {
+                unreachable!("validated: tchamwa_wielgosz is dlsm's")
+            }
         };
         let start = matches!(loading, Beam2dLoading::ElasticModuli(_)).then(|| StartState {
             q: polygons.q.clone(),
@@ -885,7 +888,13 @@ pub fn explain(scene: &Scene) -> Result<String> {
             l.quiet_steps.unwrap_or(300),
             l.end_time.unwrap_or_default()
         ),
-        LoadingKind::None | LoadingKind::Oedometer | LoadingKind::Platens => String::new(),
+        LoadingKind::None
+        | LoadingKind::Oedometer
+        | LoadingKind::Platens
+        | LoadingKind::Tension
+        | LoadingKind::FreeVibration
+        | LoadingKind::Brazilian
+        | LoadingKind::Drop => String::new(),
     };
     let _ = writeln!(s, "loading: {loading}");
     let dt = match scene.time.dt {
@@ -897,7 +906,7 @@ pub fn explain(scene: &Scene) -> Result<String> {
     };
     let integrator = match scene.time.integrator {
         IntegratorKind::Gear5 => "Gear fifth-order predictor-corrector",
-        IntegratorKind::VelocityVerlet => "velocity Verlet",
+        IntegratorKind::VelocityVerlet | IntegratorKind::TchamwaWielgosz => "velocity Verlet",
     };
     let _ = writeln!(s, "integrator: {integrator}, dt {dt}");
     let vtk = if scene.output.vtk > 0 {

@@ -22,6 +22,9 @@ pub fn explain(scene: &Scene) -> Result<String> {
     if scene.model.kind == ModelKind::Beam2d {
         return crate::beam2d::explain(scene);
     }
+    if scene.model.kind == ModelKind::Dlsm {
+        return crate::dlsm::explain(scene);
+    }
     let pipeline = Pipeline::build(scene)?;
     let mut s = String::new();
     let _ = writeln!(
@@ -59,6 +62,10 @@ pub fn explain(scene: &Scene) -> Result<String> {
         | LoadingKind::ConfinedCompression
         | LoadingKind::Explosion
         | LoadingKind::Projectile => format!("{} (model.kind = \"beam2d\")", l.kind.as_str()),
+        LoadingKind::Tension
+        | LoadingKind::FreeVibration
+        | LoadingKind::Brazilian
+        | LoadingKind::Drop => "a dlsm loading (needs model.kind = \"dlsm\")".to_string(),
     };
     let _ = writeln!(s, "loading: {loading}");
     let dt = match scene.time.dt {
@@ -150,5 +157,9 @@ fn describe_sample(scene: &Scene) -> String {
         SampleKind::VectorizableRandomLattice => {
             "vectorizable random lattice (model.kind = \"beam2d\")".to_string()
         }
+        SampleKind::VoronoiBox
+        | SampleKind::VoronoiCylinder
+        | SampleKind::VoronoiDisc
+        | SampleKind::VoronoiBall => format!("{} (needs model.kind = \"dlsm\")", p.kind.as_str()),
     }
 }

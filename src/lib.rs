@@ -11,6 +11,7 @@ pub mod beam2d;
 pub mod bench;
 pub mod bond;
 pub mod contact;
+pub mod dlsm;
 pub mod driver;
 pub mod effects;
 pub mod error;

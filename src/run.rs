@@ -7,6 +7,7 @@
 use serde_json::{Map, Value, json};
 
 use crate::beam2d::Beam2dRun;
+use crate::dlsm::DlsmRun;
 use crate::error::Result;
 use crate::probe::Series;
 use crate::scene::{ModelKind, Scene};
@@ -63,6 +64,7 @@ pub fn build(
     match scene.model.kind {
         ModelKind::Granular => Ok(Box::new(Simulation::new(scene, threads, progress)?)),
         ModelKind::Beam2d => Ok(Box::new(Beam2dRun::new(scene, threads, progress)?)),
+        ModelKind::Dlsm => Ok(Box::new(DlsmRun::new(scene, threads, progress)?)),
     }
 }
 
@@ -71,6 +73,7 @@ pub fn restore(scene: Scene, state: &[u8], threads: usize) -> Result<Box<dyn Run
     match scene.model.kind {
         ModelKind::Granular => Ok(Box::new(Simulation::restore(scene, state, threads)?)),
         ModelKind::Beam2d => Ok(Box::new(Beam2dRun::restore(scene, state, threads)?)),
+        ModelKind::Dlsm => Ok(Box::new(DlsmRun::restore(scene, state, threads)?)),
     }
 }
 

@@ -303,7 +303,8 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
     #[inline(always)]
     fn placed<'a>(&self, bodies: &'a Bodies, i: usize) -> Placed<'a> {
         match &bodies.shape[i] {
-            Shape::Sphere => Placed::sphere(bodies.radius[i], bodies.pos[i]),
+            // Polyhedra are dlsm elements, which never reach the granular contact.
+            Shape::Sphere | Shape::Polyhedron => Placed::sphere(bodies.radius[i], bodies.pos[i]),
             Shape::PolyEllipsoid { pe, .. } => {
                 let p = &self.placements[i];
                 Placed::poly_ellipsoid(pe, p.origin, p.rot)

@@ -1,10 +1,12 @@
 //! Time integration and the critical time step.
 
+mod tchamwa_wielgosz;
 mod velocity_verlet;
 // beam2d: Gear's predictor-corrector and velocity Verlet on flat arrays of degrees of freedom.
 pub mod gear5;
 
 pub use gear5::Gear5;
+pub use tchamwa_wielgosz::TchamwaWielgosz;
 pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drift_dofs};
 
 /// Rayleigh critical time step (s) of a sphere of radius `r` (m):

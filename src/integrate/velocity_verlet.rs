@@ -185,7 +185,11 @@ pub fn kick_dofs(v: &mut [f64], f: &[f64], inv_m: &[f64], dt: f64) {
 }
 
 /// Rotates `q` by the angular velocity `w` (world frame) over `dt`.
-fn advance_orientation(q: &UnitQuaternion<f64>, w: &Vec3, dt: f64) -> UnitQuaternion<f64> {
+pub(crate) fn advance_orientation(
+    q: &UnitQuaternion<f64>,
+    w: &Vec3,
+    dt: f64,
+) -> UnitQuaternion<f64> {
     // Renormalised: products of unit quaternions drift off unit length by round-off, and an
     // off-unit q would scale every vector it turns (angular momentum drifted 1e-10 per 1000
     // steps without it).

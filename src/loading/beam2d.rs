@@ -195,8 +195,14 @@ impl Beam2dLoading {
                     polygon,
                 }
             }
-            LoadingKind::None | LoadingKind::Oedometer | LoadingKind::Platens => {
-                unreachable!("validated: granular loadings are not beam2d's")
+            LoadingKind::None
+            | LoadingKind::Oedometer
+            | LoadingKind::Platens
+            | LoadingKind::Tension
+            | LoadingKind::FreeVibration
+            | LoadingKind::Brazilian
+            | LoadingKind::Drop => {
+                unreachable!("validated: granular and dlsm loadings are not beam2d's")
             }
         })
     }

@@ -10,6 +10,8 @@ use crate::probe::Series;
 use crate::scene::{LoadingKind, Scene};
 use crate::state::{BoxFace, Walls};
 
+pub mod dlsm;
+
 /// How the boundaries move during the run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum Loading {
@@ -74,6 +76,15 @@ impl Loading {
                         "= \"{}\" is a loading of model.kind = \"beam2d\"",
                         l.kind.as_str()
                     ),
+                ));
+            }
+            LoadingKind::Tension
+            | LoadingKind::FreeVibration
+            | LoadingKind::Brazilian
+            | LoadingKind::Drop => {
+                return Err(scene.key_error(
+                    "loading.kind",
+                    "is a dlsm loading, run by model.kind = \"dlsm\"",
                 ));
             }
         })

@@ -144,7 +144,7 @@ pub fn grains_vtu(bodies: &Bodies, origin: &[u32]) -> String {
         let (o, q) = bodies.shape_placement(i);
         for d in &dirs {
             let local = match &bodies.shape[i] {
-                Shape::Sphere => d.normalize() * bodies.radius[i],
+                Shape::Sphere | Shape::Polyhedron => d.normalize() * bodies.radius[i],
                 Shape::PolyEllipsoid { pe, .. } => pe.surface_point(d),
             };
             points.push(o + q * local);
@@ -275,6 +275,61 @@ pub fn pvd(frames: &[(f64, String)]) -> String {
         );
     }
     out.push_str("  </Collection>\n</VTKFile>\n");
+    out
+}
+
+/// dlsm: the elements as polygons (every face of every polyhedron, in the current pose), with
+/// the element's id, displacement from `reference` and force as cell data.
+pub fn polyhedra_vtu(
+    bodies: &Bodies,
+    shapes: &[crate::shape::polyhedron::Polyhedron],
+    forces: &Forces,
+    reference: &[Vec3],
+) -> String {
+    let points: usize = shapes.iter().map(|s| s.vertices.len()).sum();
+    let faces: usize = shapes.iter().map(|s| s.face_count()).sum();
+    let mut out = String::with_capacity(120 * points + 200 * faces + 1024);
+    header(&mut out, points, faces);
+    out.push_str("      <Points>\n");
+    vectors(
+        &mut out,
+        "position",
+        shapes.iter().enumerate().flat_map(|(i, s)| {
+            let (x, q) = (bodies.pos[i], bodies.orientation[i]);
+            s.vertices.iter().map(move |v| x + q * v)
+        }),
+    );
+    out.push_str("      </Points>\n      <Cells>\n");
+    let mut connectivity = Vec::new();
+    let mut offsets = Vec::with_capacity(faces);
+    let mut owner = Vec::with_capacity(faces);
+    let mut base = 0u64;
+    for (i, s) in shapes.iter().enumerate() {
+        for k in 0..s.face_count() {
+            connectivity.extend(s.face(k).iter().map(|&v| base + v as u64));
+            offsets.push(connectivity.len() as u64);
+            owner.push(i);
+        }
+        base += s.vertices.len() as u64;
+    }
+    integers(&mut out, "connectivity", "Int64", connectivity.into_iter());
+    integers(&mut out, "offsets", "Int64", offsets.into_iter());
+    integers(&mut out, "types", "UInt8", std::iter::repeat_n(7, faces));
+    out.push_str("      </Cells>\n      <CellData Scalars=\"element\" Vectors=\"displacement\">\n");
+    integers(
+        &mut out,
+        "element",
+        "Int64",
+        owner.iter().map(|&i| i as u64),
+    );
+    vectors(
+        &mut out,
+        "displacement",
+        owner.iter().map(|&i| bodies.pos[i] - reference[i]),
+    );
+    vectors(&mut out, "force", owner.iter().map(|&i| forces.force[i]));
+    out.push_str("      </CellData>\n");
+    footer(&mut out);
     out
 }
 

@@ -3,6 +3,7 @@
 pub mod energy;
 pub mod fragments;
 pub mod size_distribution;
+pub mod spectrum;
 
 use serde::{Deserialize, Serialize};
 

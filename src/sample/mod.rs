@@ -10,6 +10,7 @@ mod lattice;
 // beam2d: the vectorizable random lattice of Voronoi polygons.
 pub mod lattice2d;
 mod random_pack;
+pub mod voronoi;
 
 use nalgebra::UnitQuaternion;
 use rand::{RngExt, SeedableRng};
@@ -157,6 +158,18 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<S
             return Err(scene.key_error(
                 "sample.kind",
                 "= \"vectorizable_random_lattice\" makes 2D polygons for model.kind = \"beam2d\"; this builds sphere packings only",
+            ));
+        }
+        SampleKind::VoronoiBox
+        | SampleKind::VoronoiCylinder
+        | SampleKind::VoronoiDisc
+        | SampleKind::VoronoiBall => {
+            return Err(scene.key_error(
+                "sample.kind",
+                format!(
+                    "= \"{}\" is a dlsm sample, built by model.kind = \"dlsm\"",
+                    spec.kind.as_str()
+                ),
             ));
         }
     };

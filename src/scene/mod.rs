@@ -4,6 +4,7 @@
 //! text -> TOML table -> `--set` overrides -> typed [`Scene`] (unknown keys rejected) ->
 //! range checks ([`validate`]). Every failure is one sentence naming the file and the key.
 
+mod dlsm;
 mod overrides;
 mod parse;
 mod validate;
@@ -104,6 +105,11 @@ pub struct Material {
     pub normal_damping: Option<f64>,
     /// Tangential (friction) coefficient γ_T (1/s), ≥ 0.
     pub tangential_damping: Option<f64>,
+    // dlsm
+    /// Tensile strength σf (Pa) of a cohesive contact (Eq. 36), for the `fracture` effect.
+    pub tensile_strength: Option<f64>,
+    /// Normal stiffness (N/m) of element–ground contacts (`contact` effect).
+    pub contact_stiffness: Option<f64>,
 }
 
 fn one() -> f64 {
@@ -133,6 +139,14 @@ pub enum SampleKind {
     Single,
     /// beam2d: Voronoi polygons of one random point per square of a regular grid.
     VectorizableRandomLattice,
+    /// dlsm: Voronoi cells filling a box.
+    VoronoiBox,
+    /// dlsm: Voronoi cells filling a cylinder along x.
+    VoronoiCylinder,
+    /// dlsm: Voronoi cells filling a disc in the x–y plane.
+    VoronoiDisc,
+    /// dlsm: Voronoi cells filling a ball.
+    VoronoiBall,
 }
 
 impl SampleKind {
@@ -146,6 +160,10 @@ impl SampleKind {
             SampleKind::YadeText => "yade_text",
             SampleKind::Single => "single",
             SampleKind::VectorizableRandomLattice => "vectorizable_random_lattice",
+            SampleKind::VoronoiBox => "voronoi_box",
+            SampleKind::VoronoiCylinder => "voronoi_cylinder",
+            SampleKind::VoronoiDisc => "voronoi_disc",
+            SampleKind::VoronoiBall => "voronoi_ball",
         }
     }
 }
@@ -200,10 +218,23 @@ pub struct SampleSpec {
     pub outline: Option<Outline>,
     /// Grid squares [nx, ny] of a rectangle.
     pub cells: Option<[usize; 2]>,
-    /// Diameter (m) of a disc.
+    /// Diameter (m) of a disc (beam2d, dlsm).
     pub diameter: Option<f64>,
-    /// Out-of-plane thickness (m) of the 2D solid; default 1.
+    /// Thickness (m): out of plane of the beam2d solid (default 1), of a dlsm disc.
     pub thickness: Option<f64>,
+    // dlsm
+    /// How Voronoi seeds are placed.
+    pub method: Option<SampleMethod>,
+    /// Noise range d of the noisy grid, in [0, 1] (Section 7.1).
+    pub noise: Option<f64>,
+    /// About how many Voronoi elements to make.
+    pub elements: Option<usize>,
+    /// Edge of a cubic box, or length of a cylinder (m).
+    pub length: Option<f64>,
+    /// Radius of a cylinder or ball (m).
+    pub radius: Option<f64>,
+    /// Relative half-width δ of the uniform radius distribution of the packing method.
+    pub radius_dispersion: Option<f64>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -239,6 +270,28 @@ impl Outline {
     }
 }
 
+/// dlsm: where Voronoi seeds come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleMethod {
+    /// One seed per cell of a regular grid, moved by a uniform noise (Section 7.1).
+    NoisyGrid,
+    /// Centres of a sphere packing with dispersed radii (Section 7.2).
+    Packing,
+    /// A regular cubic grid (the noisy grid with d = 0).
+    Grid,
+}
+
+impl SampleMethod {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            SampleMethod::NoisyGrid => "noisy_grid",
+            SampleMethod::Packing => "packing",
+            SampleMethod::Grid => "grid",
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum ModelKind {
@@ -247,6 +300,8 @@ pub enum ModelKind {
     Granular,
     /// 2D Voronoi polygons joined by breakable beams (polygon-beam-fragmentation-2d).
     Beam2d,
+    /// Voronoi polyhedra joined by the distinct lattice spring model (brittle elastic solid).
+    Dlsm,
 }
 
 impl ModelKind {
@@ -254,6 +309,7 @@ impl ModelKind {
         match self {
             ModelKind::Granular => "granular",
             ModelKind::Beam2d => "beam2d",
+            ModelKind::Dlsm => "dlsm",
         }
     }
 }
@@ -277,8 +333,9 @@ pub enum EffectKind {
     Friction,
     /// Body force m·g.
     Gravity,
-    /// Particle fracture: Hoek–Brown and contact tensile criteria, subdivision into two
-    /// sub-poly-ellipsoids.
+    /// granular: particle fracture by the Hoek–Brown and contact tensile criteria, subdivision
+    /// into two sub-poly-ellipsoids. dlsm: cohesive contacts break for good when σxx > σf
+    /// (Eq. 36) and turn into frictional, non-cohesive polyhedron contacts.
     Fracture,
     /// Cohesive springs between the sub-particles of a split (Eq. 35–43).
     Cohesion,
@@ -327,6 +384,15 @@ pub enum LoadingKind {
     Explosion,
     /// beam2d: one polygon at the lower middle is shot into the block (Section 3.3.2).
     Projectile,
+    /// dlsm: the elements on the x− and x+ faces of a box move apart along x (Section 8.2.1).
+    Tension,
+    /// dlsm: a cylinder released from a static tension or torsion field, x− face clamped
+    /// (Section 8.2.2).
+    FreeVibration,
+    /// dlsm: a disc squeezed across its vertical (y) diameter (Section 8.2.4).
+    Brazilian,
+    /// dlsm: a body thrown onto an inclined ground plane (Section 8.1).
+    Drop,
 }
 
 impl LoadingKind {
@@ -339,8 +405,22 @@ impl LoadingKind {
             LoadingKind::ConfinedCompression => "confined_compression",
             LoadingKind::Explosion => "explosion",
             LoadingKind::Projectile => "projectile",
+            LoadingKind::Tension => "tension",
+            LoadingKind::FreeVibration => "free_vibration",
+            LoadingKind::Brazilian => "brazilian",
+            LoadingKind::Drop => "drop",
         }
     }
+}
+
+/// dlsm: the static field a free vibration starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum VibrationMode {
+    /// u = A x.
+    Tension,
+    /// A twist of α rad/m about the x axis.
+    Torsion,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -354,18 +434,37 @@ pub struct LoadingSpec {
     /// Duration of the run (s) for `kind = "none"`.
     pub end_time: Option<f64>,
     /// Speed (m/s), > 0: of the top platen (`platens`), of the projectile polygon (beam2d
-    /// `projectile`).
+    /// `projectile`), of each loaded side of a Brazilian disc (dlsm `brazilian`).
     pub speed: Option<f64>,
     // granular particle fracture
     /// Platen travel (m) at which a `platens` run ends, > 0.
     pub end_displacement: Option<f64>,
     // beam2d loadings.
-    /// Time (s) over which the driven boundaries accelerate uniformly to their final speed.
+    /// Time (s) over which the driven boundaries reach their final speed (beam2d: uniform
+    /// acceleration; dlsm tension and brazilian: a smooth rise from zero).
     pub ramp_time: Option<f64>,
     /// Energy E0 (J) of the explosion.
     pub energy: Option<f64>,
     /// The run stops after this many steps without a beam breaking (explosion, projectile).
     pub quiet_steps: Option<u64>,
+    // dlsm
+    /// Loading arc 2α (degrees) of the Brazilian test; 0 loads the top and bottom elements.
+    pub arc_degrees: Option<f64>,
+    /// With `fracture`: the run ends once the load has fallen below this fraction of its
+    /// peak (0: never early).
+    pub stop_fraction: Option<f64>,
+    /// The static field a free vibration starts from.
+    pub mode: Option<VibrationMode>,
+    /// Initial strain A of a free vibration in tension.
+    pub initial_strain: Option<f64>,
+    /// Initial twist α (rad/m) of a free vibration in torsion.
+    pub twist: Option<f64>,
+    /// Initial velocity (m/s) of a dropped body.
+    pub initial_velocity: Option<[f64; 3]>,
+    /// Inclination (degrees) of the ground plane, descending towards +x.
+    pub ground_angle_degrees: Option<f64>,
+    /// Gap (m) between the dropped body and the ground at the start.
+    pub drop_height: Option<f64>,
 }
 
 /// The time step: a number of seconds, or "auto" for the Rayleigh critical step × safety.
@@ -383,6 +482,8 @@ pub enum IntegratorKind {
     VelocityVerlet,
     /// beam2d: Gear's fifth-order predictor–corrector.
     Gear5,
+    /// dlsm: Tchamwa–Wielgosz with `time.phi` (Eq. 37–38).
+    TchamwaWielgosz,
 }
 
 impl IntegratorKind {
@@ -390,6 +491,7 @@ impl IntegratorKind {
         match self {
             IntegratorKind::VelocityVerlet => "velocity_verlet",
             IntegratorKind::Gear5 => "gear5",
+            IntegratorKind::TchamwaWielgosz => "tchamwa_wielgosz",
         }
     }
 }
@@ -404,6 +506,9 @@ pub struct TimeSpec {
     pub safety: f64,
     #[serde(default)]
     pub integrator: IntegratorKind,
+    // dlsm
+    /// φ of the Tchamwa–Wielgosz scheme, ≥ 0.5 (0.5 is velocity Verlet).
+    pub phi: Option<f64>,
 }
 
 fn default_safety() -> f64 {
@@ -416,6 +521,7 @@ impl Default for TimeSpec {
             dt: DtSpec::Auto,
             safety: default_safety(),
             integrator: IntegratorKind::VelocityVerlet,
+            phi: None,
         }
     }
 }

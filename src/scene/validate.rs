@@ -1,7 +1,8 @@
 //! Range checks: each failure names the key, its value and the allowed range.
 
 use super::{
-    DtSpec, EffectKind, GrainShape, LoadingKind, ModelKind, SampleKind, Scene, validate_beam2d,
+    DtSpec, EffectKind, GrainShape, LoadingKind, ModelKind, SampleKind, Scene, dlsm,
+    validate_beam2d,
 };
 use crate::error::Result;
 
@@ -140,6 +141,10 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
             let travel = require(s, "loading.end_displacement", l.end_displacement, why)?;
             check(s, "loading.end_displacement", travel, Range::POSITIVE, "m")?;
         }
+        LoadingKind::Tension
+        | LoadingKind::FreeVibration
+        | LoadingKind::Brazilian
+        | LoadingKind::Drop => dlsm::validate_loading(s)?,
         LoadingKind::None => {
             let end = require(
                 s,
@@ -188,6 +193,7 @@ pub(super) fn validate(s: &Scene) -> Result<()> {
             check(s, "output.report_strains", e, Range::open(0.0, 1.0), "")?;
         }
     }
+    dlsm::validate_model(s)?;
     Ok(())
 }
 
@@ -230,7 +236,7 @@ fn validate_fracture(s: &Scene) -> Result<()> {
     if let Some(v) = f.reference_radius {
         check(s, "fracture.reference_radius", v, Range::POSITIVE, "m")?;
     }
-    if s.has_effect(EffectKind::Fracture) {
+    if s.has_effect(EffectKind::Fracture) && s.model.kind == ModelKind::Granular {
         require(
             s,
             "fracture.reference_strength",
@@ -332,6 +338,10 @@ fn validate_sample(s: &Scene) -> Result<()> {
             }
         }
         SampleKind::VectorizableRandomLattice => validate_beam2d::validate_lattice(s)?,
+        SampleKind::VoronoiBox
+        | SampleKind::VoronoiCylinder
+        | SampleKind::VoronoiDisc
+        | SampleKind::VoronoiBall => dlsm::validate_sample(s)?,
         SampleKind::Single => {
             let semi = require(s, "sample.semi_axes", p.semi_axes, &why)?;
             for v in semi {
@@ -397,11 +407,16 @@ fn validate_effects(s: &Scene) -> Result<()> {
             ));
         }
     }
+    // dlsm's fracture breaks its lattice springs; granular fracture breaks grains at contacts.
+    let granular = s.model.kind == ModelKind::Granular;
     for needs_contact in [
         EffectKind::Damping,
         EffectKind::Friction,
         EffectKind::Fracture,
     ] {
+        if needs_contact == EffectKind::Fracture && !granular {
+            continue;
+        }
         if s.has_effect(needs_contact) && !s.has_effect(EffectKind::Contact) {
             return Err(s.key_error(
                 "effects",

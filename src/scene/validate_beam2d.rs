@@ -30,10 +30,10 @@ pub(super) fn validate_model(s: &Scene) -> Result<()> {
         ));
     }
     if beam2d != is_beam2d_loading(s.loading.kind) {
-        let allowed = if beam2d {
-            "elastic_moduli, confined_compression, explosion, projectile"
-        } else {
-            "none, oedometer, platens"
+        let allowed = match s.model.kind {
+            ModelKind::Beam2d => "elastic_moduli, confined_compression, explosion, projectile",
+            ModelKind::Granular => "none, oedometer, platens",
+            ModelKind::Dlsm => "none, tension, free_vibration, brazilian, drop",
         };
         return Err(s.key_error(
             "loading.kind",
@@ -220,7 +220,13 @@ fn validate_beam2d_loading(s: &Scene) -> Result<()> {
                 ));
             }
         }
-        LoadingKind::None | LoadingKind::Oedometer | LoadingKind::Platens => {
+        LoadingKind::None
+        | LoadingKind::Oedometer
+        | LoadingKind::Platens
+        | LoadingKind::Tension
+        | LoadingKind::FreeVibration
+        | LoadingKind::Brazilian
+        | LoadingKind::Drop => {
             unreachable!("checked by validate_model")
         }
     }

@@ -5,6 +5,8 @@
 pub mod poly_ellipsoid;
 // beam2d: convex polygons and half-plane clipping.
 pub mod polygon;
+// dlsm: Voronoi polyhedra.
+pub mod polyhedron;
 
 use nalgebra::UnitQuaternion;
 use serde::{Deserialize, Serialize};
@@ -25,6 +27,9 @@ pub enum Shape {
         /// Turns shape-frame vectors into the body frame.
         to_body: UnitQuaternion<f64>,
     },
+    /// dlsm: a Voronoi cell; its geometry lives with the model, its principal moments in
+    /// `Bodies::inertia` and its principal frame in `Bodies::orientation`.
+    Polyhedron,
 }
 
 impl Shape {
@@ -33,6 +38,8 @@ impl Shape {
         match self {
             Shape::Sphere => sphere_volume(radius),
             Shape::PolyEllipsoid { pe, .. } => pe.volume(),
+            // The cell's volume lives with the dlsm model, not in the shape.
+            Shape::Polyhedron => f64::NAN,
         }
     }
 
@@ -41,6 +48,7 @@ impl Shape {
         match self {
             Shape::Sphere => [radius; 6],
             Shape::PolyEllipsoid { pe, .. } => pe.semi,
+            Shape::Polyhedron => [radius; 6],
         }
     }
 

@@ -133,7 +133,7 @@ impl Bodies {
     /// its centre and its body frame.
     pub fn shape_placement(&self, i: usize) -> (Vec3, UnitQuaternion<f64>) {
         match &self.shape[i] {
-            Shape::Sphere => (self.pos[i], self.orientation[i]),
+            Shape::Sphere | Shape::Polyhedron => (self.pos[i], self.orientation[i]),
             Shape::PolyEllipsoid {
                 origin, to_body, ..
             } => (
@@ -141,6 +141,28 @@ impl Bodies {
                 self.orientation[i] * to_body,
             ),
         }
+    }
+
+    /// dlsm: adds a polyhedron at rest with its centroid at `pos`, principal moments of
+    /// inertia `inertia` (kg·m²) and principal frame `orientation`, bounded by `radius`.
+    pub fn push_polyhedron(
+        &mut self,
+        pos: Vec3,
+        mass: f64,
+        inertia: Vec3,
+        orientation: UnitQuaternion<f64>,
+        radius: f64,
+    ) {
+        self.pos.push(pos);
+        self.vel.push(Vec3::zeros());
+        self.omega.push(Vec3::zeros());
+        self.orientation.push(orientation);
+        self.radius.push(radius);
+        self.mass.push(mass);
+        self.inv_mass.push(1.0 / mass);
+        self.inertia.push(inertia);
+        self.inv_inertia.push(inertia.map(|v| 1.0 / v));
+        self.shape.push(Shape::Polyhedron);
     }
 
     /// Total kinetic energy, translational and rotational (J), summed in index order.
@@ -188,17 +210,7 @@ impl Bodies {
     /// neighbours get nearby indices, which keeps the force loop in cache and each thread's
     /// range of partners narrow.
     pub fn spatial_order(&self, cell: f64) -> Vec<usize> {
-        let mut lo = Vec3::repeat(f64::INFINITY);
-        for p in &self.pos {
-            lo = lo.inf(p);
-        }
-        let key = |p: &Vec3| {
-            let c = (p - lo) / cell;
-            (c.z as u64, c.y as u64, c.x as u64)
-        };
-        let mut order: Vec<usize> = (0..self.len()).collect();
-        order.sort_by_key(|&i| key(&self.pos[i]));
-        order
+        spatial_order(&self.pos, cell)
     }
 
     /// The first body with a non-finite position or velocity, if any.
@@ -230,4 +242,20 @@ impl Forces {
         self.force.iter_mut().for_each(|f| *f = Vec3::zeros());
         self.torque.iter_mut().for_each(|t| *t = Vec3::zeros());
     }
+}
+
+/// An order of `pos` by cells of edge `cell`, slab by slab along z, then y, then x (see
+/// [`Bodies::spatial_order`]).
+pub fn spatial_order(pos: &[Vec3], cell: f64) -> Vec<usize> {
+    let mut lo = Vec3::repeat(f64::INFINITY);
+    for p in pos {
+        lo = lo.inf(p);
+    }
+    let key = |p: &Vec3| {
+        let c = (p - lo) / cell;
+        (c.z as u64, c.y as u64, c.x as u64)
+    };
+    let mut order: Vec<usize> = (0..pos.len()).collect();
+    order.sort_by_key(|&i| key(&pos[i]));
+    order
 }

@@ -1,0 +1,431 @@
+//! Full-size validation runs of the dlsm model (docs/validation.md): the paper's Table 3,
+//! the two wave tests, tensile failure on random and regular samples, the Brazilian test
+//! (flat and 20°), the rolling ball, and the fabric of the sample methods. Writes a JSON
+//! line per case to target/dlsm-validation/results.jsonl and SVG plots to docs/img/.
+//!
+//! ```sh
+//! cargo run --release --example dlsm_validation -- fabric ball failure table3 waves brazilian
+//! ```
+//!
+//! Each case is a shipped scene at its full size (the tests run them smaller). Cases run in
+//! the order given; all of them take a few hours on two cores.
+
+use std::io::Write;
+use std::path::PathBuf;
+
+use fractum::Scene;
+use fractum::dlsm::DlsmRun;
+use fractum::sample::voronoi::{
+    Domain, face_normal_fabric, noisy_grid_seeds, packing_seeds, tessellate,
+};
+use fractum::state::Vec3;
+use plotters::prelude::*;
+use rand::SeedableRng;
+use serde_json::{Value, json};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn run(file: &str, overrides: &[String]) -> (DlsmRun, Value) {
+    let scene = Scene::load(&repo().join(file), overrides).expect("scene");
+    let started = std::time::Instant::now();
+    let mut run = DlsmRun::new(scene, 2, &mut |m| eprintln!("  {m}")).expect("run");
+    while !run.finished() {
+        if let Err(e) = run.advance(20_000) {
+            // An unstable run is a result too: say where it stopped.
+            let mut s = run.summary();
+            s["error"] = json!(e.to_string());
+            return (run, s);
+        }
+        eprintln!("  step {} of {}", run.step, run.end_step);
+    }
+    let mut s = run.summary();
+    s["wall_seconds"] = json!(started.elapsed().as_secs_f64());
+    (run, s)
+}
+
+fn record(case: &str, value: Value) {
+    let dir = repo().join("target/dlsm-validation");
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut f = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(dir.join("results.jsonl"))
+        .unwrap();
+    writeln!(f, "{}", json!({ "case": case, "result": value })).unwrap();
+    println!("{case}: {value}");
+}
+
+fn pick(s: &Value, keys: &[&str]) -> Value {
+    let mut m = serde_json::Map::new();
+    for k in keys {
+        if let Some(v) = s.get(*k) {
+            m.insert((*k).to_string(), v.clone());
+        }
+    }
+    Value::Object(m)
+}
+
+/// Lines (label, points) on one chart.
+fn plot(file: &str, title: &str, x: &str, y: &str, lines: &[(String, Vec<(f64, f64)>)]) {
+    let path = repo().join("docs/img").join(file);
+    let root = SVGBackend::new(&path, (720, 460)).into_drawing_area();
+    root.fill(&WHITE).unwrap();
+    let all = lines.iter().flat_map(|l| l.1.iter());
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for p in all {
+        x0 = x0.min(p.0);
+        x1 = x1.max(p.0);
+        y0 = y0.min(p.1);
+        y1 = y1.max(p.1);
+    }
+    let pad = 0.05 * (y1 - y0).max(1e-30);
+    let mut chart = ChartBuilder::on(&root)
+        .caption(title, ("sans-serif", 18))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(70)
+        .build_cartesian_2d(x0..x1, (y0 - pad)..(y1 + pad))
+        .unwrap();
+    chart.configure_mesh().x_desc(x).y_desc(y).draw().unwrap();
+    let colours = [BLUE, RED, GREEN, BLACK, MAGENTA];
+    for (k, (label, pts)) in lines.iter().enumerate() {
+        let c = colours[k % colours.len()];
+        chart
+            .draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))
+            .unwrap()
+            .label(label.clone())
+            .legend(move |(a, b)| PathElement::new(vec![(a, b), (a + 18, b)], c.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .unwrap();
+    root.present().unwrap();
+}
+
+fn columns(run: &DlsmRun, x: &str, y: &str) -> Vec<(f64, f64)> {
+    let xs = run.series.column(x).unwrap();
+    let ys = run.series.column(y).unwrap();
+    xs.into_iter().zip(ys).collect()
+}
+
+fn main() {
+    let cases: Vec<String> = std::env::args().skip(1).collect();
+    for case in &cases {
+        eprintln!("== {case}");
+        match case.as_str() {
+            "fabric" => {
+                let d = Domain::Box {
+                    lo: Vec3::zeros(),
+                    hi: Vec3::repeat(1.0),
+                };
+                let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+                let mut out = Vec::new();
+                for noise in [0.0, 0.5, 0.9, 1.0] {
+                    let seeds = noisy_grid_seeds(&d, 11000, noise, &mut rng);
+                    let f = face_normal_fabric(&tessellate(&seeds, &d).unwrap());
+                    out.push(json!({"method": "noisy_grid", "noise": noise, "fabric": f}));
+                }
+                let seeds = packing_seeds(&d, 11000, 0.25, &mut rng).unwrap();
+                let f = face_normal_fabric(&tessellate(&seeds, &d).unwrap());
+                out.push(json!({"method": "packing", "radius_dispersion": 0.25, "fabric": f}));
+                record("fabric", json!(out));
+            }
+            "ball" => {
+                let (r, s) = run("scenes/rolling_ball.toml", &[]);
+                record(
+                    "rolling_ball",
+                    pick(
+                        &s,
+                        &[
+                            "elements",
+                            "steps",
+                            "dt",
+                            "rotation_turns",
+                            "max_energy_ratio",
+                            "downslope_distance",
+                            "wall_seconds",
+                        ],
+                    ),
+                );
+                plot(
+                    "dlsm_rolling_ball.svg",
+                    "Rolling ball: energies (J)",
+                    "time (s)",
+                    "energy (J)",
+                    &[
+                        ("total".into(), columns(&r, "time", "total_energy")),
+                        ("kinetic".into(), columns(&r, "time", "kinetic_energy")),
+                        ("gravity".into(), columns(&r, "time", "potential_energy")),
+                        (
+                            "lattice strain".into(),
+                            columns(&r, "time", "strain_energy"),
+                        ),
+                    ],
+                );
+            }
+            "failure" => {
+                let mut lines = Vec::new();
+                for (label, sets) in [
+                    ("random (packing)", vec![]),
+                    ("regular grid", vec!["sample.method=grid".to_string()]),
+                ] {
+                    let (r, s) = run("scenes/dlsm_tensile_failure.toml", &sets);
+                    record(
+                        &format!("tensile_failure {label}"),
+                        pick(
+                            &s,
+                            &[
+                                "elements",
+                                "steps",
+                                "apparent_strength",
+                                "local_strength",
+                                "strength_ratio",
+                                "apparent_young",
+                                "broken_contacts",
+                                "wall_seconds",
+                            ],
+                        ),
+                    );
+                    let pts = columns(&r, "strain", "stress")
+                        .into_iter()
+                        .map(|(e, s)| (e * 1e3, s / 1e6))
+                        .collect();
+                    lines.push((label.to_string(), pts));
+                }
+                plot(
+                    "dlsm_tensile_failure.svg",
+                    "Tensile failure, sigma_f = 10 MPa",
+                    "strain (1e-3)",
+                    "stress (MPa)",
+                    &lines,
+                );
+            }
+            "table3plot" => {
+                // Table 3 again from results.jsonl (after a run that stopped early).
+                let text =
+                    std::fs::read_to_string(repo().join("target/dlsm-validation/results.jsonl"))
+                        .unwrap_or_default();
+                let (mut pts_e, mut pts_nu) = (Vec::new(), Vec::new());
+                for line in text.lines() {
+                    let v: Value = serde_json::from_str(line).unwrap();
+                    let case = v["case"].as_str().unwrap_or("");
+                    if let Some(nu) = case.strip_prefix("table3 nu=") {
+                        let nu: f64 = nu.parse().unwrap();
+                        if let (Some(e), Some(p)) = (
+                            v["result"]["apparent_young"].as_f64(),
+                            v["result"]["apparent_poisson"].as_f64(),
+                        ) {
+                            if v["result"].get("error").is_none() {
+                                pts_e.push((nu, e / 1e9));
+                                pts_nu.push((nu, p - nu));
+                            }
+                        }
+                    }
+                }
+                pts_e.sort_by(|a, b| a.0.total_cmp(&b.0));
+                pts_nu.sort_by(|a, b| a.0.total_cmp(&b.0));
+                let paper = [
+                    (0.49, 20.973),
+                    (0.45, 20.267),
+                    (0.4, 20.164),
+                    (0.3, 20.141),
+                    (0.2, 20.117),
+                    (0.1, 20.095),
+                    (0.0, 20.078),
+                    (-0.1, 20.064),
+                    (-0.2, 20.055),
+                    (-0.3, 20.051),
+                    (-0.4, 20.053),
+                    (-0.5, 20.065),
+                    (-0.6, 20.089),
+                    (-0.7, 20.140),
+                    (-0.8, 20.251),
+                    (-0.95, 21.266),
+                ];
+                let mut paper: Vec<(f64, f64)> = paper.to_vec();
+                paper.sort_by(|a, b| a.0.total_cmp(&b.0));
+                plot(
+                    "dlsm_table3_young.svg",
+                    "Apparent E, input 20 GPa (Table 3)",
+                    "input nu",
+                    "E (GPa)",
+                    &[
+                        ("Fractum, 11,000 cells".into(), pts_e),
+                        ("paper".into(), paper),
+                    ],
+                );
+                plot(
+                    "dlsm_table3_poisson.svg",
+                    "Apparent nu minus input nu (Table 3)",
+                    "input nu",
+                    "error",
+                    &[("Fractum, 11,000 cells".into(), pts_nu)],
+                );
+            }
+            "table3x" => {
+                // The extreme rows again with a shorter step: Eq. 39 scales with E, but the
+                // lattice's stiffness grows like λ + 2μ as ν → 0.5 or −1.
+                for nu in [0.49, -0.95, -0.99] {
+                    let (_, s) = run(
+                        "scenes/dlsm_tensile.toml",
+                        &[
+                            format!("material.poisson={nu}"),
+                            "time.safety=0.05".to_string(),
+                        ],
+                    );
+                    record(
+                        &format!("table3x nu={nu} safety=0.05"),
+                        pick(
+                            &s,
+                            &[
+                                "elements",
+                                "steps",
+                                "dt",
+                                "apparent_young",
+                                "apparent_poisson",
+                                "wall_seconds",
+                                "error",
+                            ],
+                        ),
+                    );
+                }
+            }
+            "table3" => {
+                let mut pts_e = Vec::new();
+                let mut pts_nu = Vec::new();
+                for nu in [
+                    0.49, 0.45, 0.4, 0.3, 0.2, 0.1, 0.0, -0.1, -0.2, -0.3, -0.4, -0.5, -0.6, -0.7,
+                    -0.8, -0.95, -0.99,
+                ] {
+                    let (_, s) = run(
+                        "scenes/dlsm_tensile.toml",
+                        &[format!("material.poisson={nu}")],
+                    );
+                    record(
+                        &format!("table3 nu={nu}"),
+                        pick(
+                            &s,
+                            &[
+                                "elements",
+                                "steps",
+                                "apparent_young",
+                                "apparent_poisson",
+                                "wall_seconds",
+                            ],
+                        ),
+                    );
+                    if let (Some(e), Some(p)) =
+                        (s["apparent_young"].as_f64(), s["apparent_poisson"].as_f64())
+                    {
+                        pts_e.push((nu, e / 1e9));
+                        pts_nu.push((nu, p - nu));
+                    }
+                }
+                plot(
+                    "dlsm_table3_young.svg",
+                    "Apparent E (input 20 GPa)",
+                    "input nu",
+                    "E (GPa)",
+                    &[("Fractum".into(), pts_e)],
+                );
+                plot(
+                    "dlsm_table3_poisson.svg",
+                    "Apparent nu minus input nu",
+                    "input nu",
+                    "error",
+                    &[("Fractum".into(), pts_nu)],
+                );
+            }
+            "waves" => {
+                let mut lines = Vec::new();
+                for (mode, file, col) in [
+                    (
+                        "tension",
+                        "scenes/dlsm_wave_tension.toml",
+                        "free_face_displacement",
+                    ),
+                    (
+                        "torsion",
+                        "scenes/dlsm_wave_torsion.toml",
+                        "free_face_rotation",
+                    ),
+                ] {
+                    let (r, s) = run(file, &[]);
+                    record(
+                        &format!("wave {mode}"),
+                        pick(
+                            &s,
+                            &[
+                                "elements",
+                                "steps",
+                                "dt",
+                                "frequency_measured",
+                                "frequency_theory",
+                                "frequency_error",
+                                "wall_seconds",
+                            ],
+                        ),
+                    );
+                    let pts: Vec<(f64, f64)> = columns(&r, "time", col);
+                    let top = pts.iter().map(|p| p.1.abs()).fold(0.0, f64::max);
+                    lines.push((
+                        format!("{mode} (normalised)"),
+                        pts.into_iter().map(|(t, v)| (t * 1e3, v / top)).collect(),
+                    ));
+                }
+                plot(
+                    "dlsm_waves.svg",
+                    "Free face, clamped-free cylinder",
+                    "time (ms)",
+                    "signal / max",
+                    &lines,
+                );
+            }
+            "brazilian" => {
+                let mut lines = Vec::new();
+                for arc in [0.0, 20.0] {
+                    let (r, s) = run(
+                        "scenes/brazilian.toml",
+                        &[format!("loading.arc_degrees={arc}")],
+                    );
+                    record(
+                        &format!("brazilian arc={arc}"),
+                        pick(
+                            &s,
+                            &[
+                                "elements",
+                                "steps",
+                                "dt",
+                                "peak_force",
+                                "theory_force",
+                                "force_ratio",
+                                "crack_start_offset",
+                                "main_crack_start_offset",
+                                "broken_contacts",
+                                "wall_seconds",
+                            ],
+                        ),
+                    );
+                    let pts = columns(&r, "diametral_strain", "force")
+                        .into_iter()
+                        .map(|(e, f)| (e * 1e3, f / 1e3))
+                        .collect();
+                    lines.push((format!("2 alpha = {arc} degrees"), pts));
+                }
+                plot(
+                    "dlsm_brazilian.svg",
+                    "Brazilian test",
+                    "diametral strain (1e-3)",
+                    "force (kN)",
+                    &lines,
+                );
+            }
+            other => eprintln!("unknown case {other}"),
+        }
+    }
+}
