@@ -156,6 +156,9 @@ pub fn hertz_mindlin<const DAMP: bool, const FRIC: bool>(
     let mut force = n * fn_total;
     if FRIC {
         let vt = v - n * vn;
+        let kt = k.eight_g * a;
+        let mut stored_before = 0.0;
+        let mut spring_before = Vec3::zeros();
         if update {
             let along_n = hist.dot(n);
             if along_n != 0.0 {
@@ -166,31 +169,37 @@ pub fn hertz_mindlin<const DAMP: bool, const FRIC: bool>(
                     *hist *= len / projected;
                 }
             }
+            stored_before = 0.5 * kt * hist.norm_squared();
+            spring_before = *hist * (-kt);
             *hist += vt * dt;
         }
-        let kt = k.eight_g * a;
         let mut ft = *hist * (-kt);
         if DAMP {
             ft -= vt * eta;
-            dissipated += eta * vt.norm_squared() * dt;
         }
         let limit = k.mu * fn_total;
         let ft2 = ft.norm_squared();
         if ft2 > limit * limit {
             if hist.norm_squared() > 0.0 {
-                let trial = hist.norm();
                 ft *= limit / ft2.sqrt();
                 // Keep the elastic part of the limited force as the new displacement.
                 let elastic = if DAMP { ft + vt * eta } else { ft };
                 *hist = elastic * (-1.0 / kt);
-                // Sliding: the part of the displacement not kept as elastic slipped under
-                // the Coulomb force.
-                dissipated += limit * (trial - hist.norm()).max(0.0);
             } else {
                 ft = Vec3::zeros();
             }
         }
-        elastic_energy += 0.5 * kt * hist.norm_squared();
+        let stored = 0.5 * kt * hist.norm_squared();
+        if update {
+            // What the tangential force took from the relative motion over the step (its
+            // spring part by the trapezoid rule, so that a sticking spring dissipates nothing),
+            // less what the spring stored: tangential damping and Coulomb sliding together,
+            // counted once.
+            let spring = *hist * (-kt);
+            let work = -((spring_before + spring) * 0.5 + (ft - spring)).dot(&vt) * dt;
+            dissipated += work - (stored - stored_before);
+        }
+        elastic_energy += stored;
         force += ft;
     }
     ContactForce {

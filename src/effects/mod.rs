@@ -50,6 +50,9 @@ pub trait Effect: Send {
     fn records(&self) -> Option<&ContactRecords> {
         None
     }
+    /// Bodies whose shape has just changed (a grain split): what the effect remembers of
+    /// their contacts (held Hertz radii) no longer holds.
+    fn reshaped(&mut self, _bodies: &[usize]) {}
     /// Persistent state (contact histories) for checkpoints; empty when there is none.
     fn save(&self) -> Vec<u8> {
         Vec::new()
@@ -119,6 +122,13 @@ impl Pipeline {
     /// The contact records of the last evaluation, if an effect keeps them.
     pub fn records(&self) -> Option<&ContactRecords> {
         self.effects.iter().find_map(|e| e.records())
+    }
+
+    /// See [`Effect::reshaped`].
+    pub fn reshaped(&mut self, bodies: &[usize]) {
+        for e in &mut self.effects {
+            e.reshaped(bodies);
+        }
     }
 
     pub fn history_len(&self) -> usize {

@@ -122,3 +122,35 @@ vtk = 500
 "#
     )
 }
+
+/// Runs a shipped scene (path relative to the repository) with extra CLI arguments; returns
+/// the output folder's owner, summary.json and series.csv.
+pub fn run_scene(scene: &str, extra: &[&str]) -> (tempfile::TempDir, serde_json::Value, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let path = repo().join(scene);
+    let mut args = vec![
+        "run",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--quiet",
+    ];
+    args.extend_from_slice(extra);
+    let o = fractum(dir.path(), &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let summary =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    let series = std::fs::read_to_string(out.join("series.csv")).unwrap();
+    (dir, summary, series)
+}
+
+/// A column of series.csv by name.
+pub fn column(series: &str, name: &str) -> Vec<f64> {
+    let mut lines = series.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let k = header.iter().position(|h| *h == name).unwrap();
+    lines
+        .map(|l| l.split(',').nth(k).unwrap().parse().unwrap())
+        .collect()
+}

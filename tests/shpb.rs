@@ -1,0 +1,156 @@
+//! SHPB compaction of silica sand with breaking grains (poly-ellipsoid-fracture-shpb.txt,
+//! Section 5), at reduced size: the shipped scenes in smaller boxes (about 200 grains, or
+//! 5 × 5 × 5 lattices), so that the whole file runs in about a minute on two cores. The
+//! full-size runs and their plots are in docs/validation.md.
+
+mod common;
+
+use common::{column, run_scene};
+use serde_json::Value;
+
+const SMALL_BOX: &str = "sample.box=[3.6e-3,3.6e-3,3.6e-3]";
+
+fn run(scene: &str, sets: &[&str]) -> (tempfile::TempDir, Value, String) {
+    let mut args = vec!["--threads", "2", "--set", "output.vtk=0"];
+    for s in sets {
+        args.push("--set");
+        args.push(s);
+    }
+    run_scene(scene, &args)
+}
+
+fn stress_at(s: &Value, strain: &str) -> f64 {
+    s["stress_at_strain"][strain]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no stress_at_strain.{strain}: {}", s["stress_at_strain"]))
+}
+
+/// No NaN anywhere in the series, and the energy account closes: the platen work equals the
+/// kinetic and elastic energy, what contacts dissipated, what the springs spent and what the
+/// splits released, to within `tolerance` of the work.
+fn assert_stable_and_balanced(s: &Value, series: &str, tolerance: f64) {
+    for name in [
+        "stress_driven",
+        "kinetic_energy",
+        "elastic_energy",
+        "dissipated",
+    ] {
+        assert!(
+            column(series, name).iter().all(|v| v.is_finite()),
+            "{name} is not finite"
+        );
+    }
+    let e = &s["energy"];
+    for key in [
+        "kinetic",
+        "elastic",
+        "boundary_work",
+        "dissipated",
+        "fracture",
+        "split_change",
+        "balance_error",
+    ] {
+        assert!(
+            e[key].as_f64().is_some_and(f64::is_finite),
+            "energy.{key}: {e}"
+        );
+    }
+    let work = e["boundary_work"].as_f64().unwrap();
+    assert!(work > 0.0);
+    let relative = e["balance_error_relative"].as_f64().unwrap();
+    assert!(
+        relative.abs() < tolerance,
+        "energy balance off by {relative}: {e}"
+    );
+    // The same numbers, summed here: what the summary calls the error is what is missing.
+    let sum = e["kinetic"].as_f64().unwrap()
+        + e["elastic"].as_f64().unwrap()
+        + e["dissipated"].as_f64().unwrap()
+        + e["fracture"].as_f64().unwrap()
+        - e["split_change"].as_f64().unwrap();
+    assert!(((sum - work) / work - relative).abs() < 1e-9, "{e}");
+}
+
+#[test]
+fn fracture_softens_the_sand_and_sizes_move_smaller() {
+    let on = run(
+        "scenes/shpb_sand.toml",
+        &[SMALL_BOX, "loading.end_strain=0.2"],
+    );
+    let off = run(
+        "scenes/shpb_sand.toml",
+        &[
+            SMALL_BOX,
+            "loading.end_strain=0.2",
+            "effects=[\"contact\",\"damping\",\"friction\"]",
+        ],
+    );
+    let (s_on, s_off) = (&on.1, &off.1);
+    assert_eq!(s_on["sample"]["count"], s_off["sample"]["count"]);
+    // Fig. 32: without fracture the sample is far stiffer (the paper: about 4x at 0.2).
+    let (a, b) = (stress_at(s_off, "0.2"), stress_at(s_on, "0.2"));
+    assert!(
+        a >= 2.0 * b,
+        "stress at 0.2 strain: {a} Pa unbroken, {b} Pa breaking"
+    );
+    let broken = s_on["broken_particles"].as_u64().unwrap();
+    let grains = s_on["sample"]["count"].as_u64().unwrap();
+    assert!(broken > grains / 10, "{broken} of {grains} grains broke");
+    assert!(s_on["fragments"].as_u64().unwrap() > grains);
+    // Fig. 31: the size distribution moves to smaller sizes as the strain grows.
+    let d50 = &s_on["median_diameter_at_strain"];
+    let d = ["0", "0.05", "0.1", "0.2"].map(|k| d50[k].as_f64().unwrap());
+    assert!(
+        d[1] <= d[0] && d[2] < d[1] && d[3] < d[2],
+        "median sizes {d:?}"
+    );
+    assert!(d[3] < 0.95 * d[0], "median sizes {d:?}");
+    // psd.csv: the curves start at 0 and reach 1.
+    let psd = std::fs::read_to_string(on.0.path().join("out/psd.csv")).unwrap();
+    let last = psd.lines().last().unwrap();
+    assert!(
+        last.split(',')
+            .skip(1)
+            .all(|v| v.parse::<f64>().unwrap() == 1.0),
+        "{last}"
+    );
+    assert_stable_and_balanced(s_on, &on.2, 0.05);
+}
+
+#[test]
+fn hexagonal_close_packing_is_stiffer_than_random() {
+    // Fig. 35: the dense, structured hcp sample is much stiffer than the random ones.
+    let hcp = run(
+        "scenes/shpb_hcp.toml",
+        &["sample.layers=[5,5,5]", "loading.end_strain=0.1"],
+    );
+    let random = run(
+        "scenes/shpb_random_mono.toml",
+        &[
+            "sample.box=[3e-3,3e-3,3e-3]",
+            "sample.solid_fraction=0.52",
+            "loading.end_strain=0.1",
+        ],
+    );
+    for strain in ["0.05", "0.1"] {
+        let (h, r) = (stress_at(&hcp.1, strain), stress_at(&random.1, strain));
+        assert!(h > 1.5 * r, "at {strain}: hcp {h} Pa, random {r} Pa");
+    }
+    assert_stable_and_balanced(&hcp.1, &hcp.2, 0.05);
+    assert_stable_and_balanced(&random.1, &random.2, 0.05);
+}
+
+#[test]
+fn stable_at_5000_per_second() {
+    let (_dir, s, series) = run(
+        "scenes/shpb_sand.toml",
+        &[
+            SMALL_BOX,
+            "loading.end_strain=0.3",
+            "loading.strain_rate=5000",
+        ],
+    );
+    assert!((s["strain_final"].as_f64().unwrap() - 0.3).abs() < 1e-3);
+    assert!(s["broken_particles"].as_u64().unwrap() > 0);
+    assert_stable_and_balanced(&s, &series, 0.05);
+}
