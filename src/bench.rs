@@ -227,3 +227,63 @@ pub fn polygon_table(cases: &[PolygonCase]) -> String {
     }
     s
 }
+
+// granular fracture: poly-ellipsoid contact throughput and the SHPB scene's cost per strain.
+
+/// Times `steps` steps of `bodies` poly-ellipsoids with axis ratios from 1 to 2 (each
+/// semi-axis uniform in [r/2, r]), randomly oriented, inscribed in the spheres of the cached
+/// jammed packing: every neighbour pair of the packing is a candidate pair whose bounding
+/// spheres overlap, so each step runs the convex contact search on all of them. The same
+/// contact model as [`time_case`] (Hertz–Mindlin with damping, on the local curvatures).
+pub fn time_poly_ellipsoid_case(
+    bodies: usize,
+    threads: usize,
+    steps: u64,
+    cache: &Path,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<BenchCase> {
+    let spheres = dense_packing(bodies, cache, progress)?;
+    let text = scene_text(bodies).replace(
+        "compaction_friction = 0.1\n",
+        "compaction_friction = 0.1\nshape = \"poly_ellipsoid\"\naspect_ratio_max = 2.0\n",
+    );
+    let scene = Scene::from_toml(&text, "bench", Path::new("."), &[])?;
+    let mut turned = spheres.bodies.clone();
+    let mut rng = sample::stream(scene.seed, 3);
+    for q in &mut turned.orientation {
+        *q = sample::random_orientation(&mut rng);
+    }
+    let s = Sample {
+        bodies: sample::poly_ellipsoids_in_spheres(&scene, &turned),
+        walls: spheres.walls.clone(),
+        info: spheres.info.clone(),
+    };
+    let mut sim = Simulation::from_sample(scene, s, threads)?;
+    sim.advance(200)?;
+    let start = Instant::now();
+    sim.advance(steps)?;
+    let seconds = start.elapsed().as_secs_f64();
+    Ok(BenchCase {
+        bodies: sim.bodies.len(),
+        threads,
+        steps,
+        seconds,
+        contacts: sim.pipeline.contacts(),
+    })
+}
+
+/// Runs a shipped SHPB scene (with `overrides`) to its end on `threads` threads and returns
+/// the wall seconds of the stepping per 1% of axial strain, the grains at the start and the
+/// bodies at the end.
+pub fn time_shpb(path: &Path, overrides: &[String], threads: usize) -> Result<(f64, usize, usize)> {
+    let scene = Scene::load(path, overrides)?;
+    let end_strain = scene.loading.end_strain.unwrap_or(0.0);
+    let mut sim = Simulation::new(scene, threads, &mut |_| {})?;
+    let grains = sim.bodies.len();
+    let start = Instant::now();
+    while !sim.finished() {
+        sim.advance(1000)?;
+    }
+    let seconds = start.elapsed().as_secs_f64();
+    Ok((seconds / (100.0 * end_strain), grains, sim.bodies.len()))
+}
