@@ -109,7 +109,12 @@ pub fn time_case(sample: &Sample, bodies: usize, threads: usize, steps: u64) -> 
         walls: sample.walls.clone(),
         info: sample.info.clone(),
     };
-    let mut sim = Simulation::from_sample(scene, s, threads)?;
+    time_sample(scene, s, threads, steps)
+}
+
+/// Times `steps` steps of `sample` under `scene` after 200 warm-up steps.
+fn time_sample(scene: Scene, sample: Sample, threads: usize, steps: u64) -> Result<BenchCase> {
+    let mut sim = Simulation::from_sample(scene, sample, threads)?;
     sim.advance(200)?;
     let start = Instant::now();
     sim.advance(steps)?;
@@ -258,18 +263,7 @@ pub fn time_poly_ellipsoid_case(
         walls: spheres.walls.clone(),
         info: spheres.info.clone(),
     };
-    let mut sim = Simulation::from_sample(scene, s, threads)?;
-    sim.advance(200)?;
-    let start = Instant::now();
-    sim.advance(steps)?;
-    let seconds = start.elapsed().as_secs_f64();
-    Ok(BenchCase {
-        bodies: sim.bodies.len(),
-        threads,
-        steps,
-        seconds,
-        contacts: sim.pipeline.contacts(),
-    })
+    time_sample(scene, s, threads, steps)
 }
 
 /// Runs a shipped SHPB scene (with `overrides`) to its end on `threads` threads and returns
