@@ -26,7 +26,7 @@ fn main() {
     }
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shpb_sand.toml");
     let overrides = [
-        "loading.end_strain=0.05".to_string(),
+        "loading.end_strain=0.02".to_string(),
         "output.vtk=0".to_string(),
     ];
     println!();
