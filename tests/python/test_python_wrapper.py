@@ -28,8 +28,11 @@ def test_stress_rises_with_strain_and_arrays_come_back_as_numpy():
             stresses.append(sim.face_stresses()[0])
         assert strain == pytest.approx(0.05, rel=1e-3)  # 3 m/s x 100 us / 6 mm
         assert all(b > a for a, b in zip(stresses[2:], stresses[3:]))
+        # Grains break (the scene has the fracture effect): the arrays follow the bodies now.
+        n_now = sim.counts()[0]
+        assert n_now >= n
         v = sim.velocities()
-        assert v.shape == (n, 3) and np.isfinite(v).all()
+        assert v.shape == (n_now, 3) and np.isfinite(v).all()
 
 
 def test_saved_state_replays_bit_for_bit_and_reset_returns_to_the_start():

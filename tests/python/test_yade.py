@@ -1,5 +1,6 @@
 """The ctypes wrapper inside YADE's Python (Debian's yade, headless: yade -n -x)."""
 import os
+import re
 import shutil
 import subprocess
 
@@ -16,4 +17,6 @@ def test_wrapper_runs_inside_yade():
     )
     out = p.stdout + p.stderr
     assert p.returncode == 0, out
-    assert "yade: ok" in out and "986 Fractum grains as YADE spheres" in out, out
+    # 986 grains at the start; some break by 2e-5 s, each piece a YADE sphere.
+    m = re.search(r"yade: (\d+) Fractum grains as YADE spheres", out)
+    assert "yade: ok" in out and m and int(m.group(1)) >= 986, out
