@@ -9,6 +9,63 @@ pub use gear5::Gear5;
 pub use tchamwa_wielgosz::TchamwaWielgosz;
 pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drift_dofs};
 
+use nalgebra::UnitQuaternion;
+use rayon::prelude::*;
+
+use crate::parallel::threads_here;
+use crate::state::Vec3;
+
+/// Bodies below which an update runs on one thread whatever the pool.
+const PAR_MIN: usize = 8192;
+
+/// Runs `update(i, x, v, ω, q)` on every body: across the pool's threads for large systems,
+/// in index order on this thread otherwise (each body's update is independent, so both give
+/// the same bits).
+fn each_body(
+    pos: &mut [Vec3],
+    vel: &mut [Vec3],
+    omega: &mut [Vec3],
+    orientation: &mut [UnitQuaternion<f64>],
+    update: impl Fn(usize, &mut Vec3, &mut Vec3, &mut Vec3, &mut UnitQuaternion<f64>) + Sync + Send,
+) {
+    if pos.len() >= PAR_MIN && threads_here() > 1 {
+        pos.par_iter_mut()
+            .zip(vel.par_iter_mut())
+            .zip(omega.par_iter_mut())
+            .zip(orientation.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_MIN / 2)
+            .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
+    } else {
+        pos.iter_mut()
+            .zip(vel.iter_mut())
+            .zip(omega.iter_mut())
+            .zip(orientation.iter_mut())
+            .enumerate()
+            .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
+    }
+}
+
+/// Runs `update((i, (v, ω)))` on every body's velocities, like [`each_body`].
+fn each_velocity(
+    vel: &mut [Vec3],
+    omega: &mut [Vec3],
+    update: impl Fn((usize, (&mut Vec3, &mut Vec3))) + Sync + Send,
+) {
+    if vel.len() >= PAR_MIN && threads_here() > 1 {
+        vel.par_iter_mut()
+            .zip(omega.par_iter_mut())
+            .enumerate()
+            .with_min_len(PAR_MIN / 2)
+            .for_each(update);
+    } else {
+        vel.iter_mut()
+            .zip(omega.iter_mut())
+            .enumerate()
+            .for_each(update);
+    }
+}
+
 /// Rayleigh critical time step (s) of a sphere of radius `r` (m):
 /// `π r sqrt(ρ / G) / (0.1631 ν + 0.8766)`, the time a Rayleigh wave takes to cross it.
 pub fn rayleigh_time_step(r: f64, density: f64, young: f64, poisson: f64) -> f64 {

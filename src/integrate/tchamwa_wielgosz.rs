@@ -26,10 +26,8 @@
 //! arithmetic of [`super::VelocityVerlet`].
 
 use nalgebra::{Matrix3, UnitQuaternion};
-use rayon::prelude::*;
 
 use super::velocity_verlet::advance_orientation;
-use crate::parallel::threads_here;
 use crate::shape::Shape;
 use crate::state::{Bodies, Forces, Vec3};
 
@@ -40,9 +38,6 @@ pub struct TchamwaWielgosz {
     /// Advance the orientations of spheres too (polyhedra always turn).
     pub track_orientation: bool,
 }
-
-/// Bodies below which the update runs on one thread whatever the pool.
-const PAR_MIN: usize = 8192;
 
 impl TchamwaWielgosz {
     pub fn new(phi: f64) -> Self {
@@ -98,22 +93,7 @@ impl TchamwaWielgosz {
                     }
                 }
             };
-        if pos.len() >= PAR_MIN && threads_here() > 1 {
-            pos.par_iter_mut()
-                .zip(vel.par_iter_mut())
-                .zip(omega.par_iter_mut())
-                .zip(orientation.par_iter_mut())
-                .enumerate()
-                .with_min_len(PAR_MIN / 2)
-                .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
-        } else {
-            pos.iter_mut()
-                .zip(vel.iter_mut())
-                .zip(omega.iter_mut())
-                .zip(orientation.iter_mut())
-                .enumerate()
-                .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
-        }
+        super::each_body(pos, vel, omega, orientation, update);
     }
 
     /// Second stage: velocities to t + dt with the new forces, `+ φ dt a(t+dt)`.
@@ -138,18 +118,7 @@ impl TchamwaWielgosz {
                 }
             }
         };
-        if vel.len() >= PAR_MIN && threads_here() > 1 {
-            vel.par_iter_mut()
-                .zip(omega.par_iter_mut())
-                .enumerate()
-                .with_min_len(PAR_MIN / 2)
-                .for_each(update);
-        } else {
-            vel.iter_mut()
-                .zip(omega.iter_mut())
-                .enumerate()
-                .for_each(update);
-        }
+        super::each_velocity(vel, omega, update);
     }
 }
 

@@ -23,9 +23,7 @@
 use std::ops::{AddAssign, Mul};
 
 use nalgebra::UnitQuaternion;
-use rayon::prelude::*;
 
-use crate::parallel::threads_here;
 use crate::state::{Bodies, Forces, Vec3};
 
 #[derive(Debug, Clone, Copy, Default)]
@@ -34,9 +32,6 @@ pub struct VelocityVerlet {
     /// spheres' forces never read them).
     pub track_orientation: bool,
 }
-
-/// Bodies below which the update runs on one thread whatever the pool.
-const PAR_MIN: usize = 8192;
 
 impl VelocityVerlet {
     /// First half kick and drift: velocities to t + dt/2, positions to t + dt.
@@ -73,22 +68,7 @@ impl VelocityVerlet {
                     *w = angular_velocity(q, &l, inv_i);
                 }
             };
-        if pos.len() >= PAR_MIN && threads_here() > 1 {
-            pos.par_iter_mut()
-                .zip(vel.par_iter_mut())
-                .zip(omega.par_iter_mut())
-                .zip(orientation.par_iter_mut())
-                .enumerate()
-                .with_min_len(PAR_MIN / 2)
-                .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
-        } else {
-            pos.iter_mut()
-                .zip(vel.iter_mut())
-                .zip(omega.iter_mut())
-                .zip(orientation.iter_mut())
-                .enumerate()
-                .for_each(|(i, (((x, v), w), q))| update(i, x, v, w, q));
-        }
+        super::each_body(pos, vel, omega, orientation, update);
     }
 
     /// Second half kick: velocities to t + dt with the new forces.
@@ -115,18 +95,7 @@ impl VelocityVerlet {
                 *w += f.torque[i].component_mul(inv_i) * half;
             }
         };
-        if vel.len() >= PAR_MIN && threads_here() > 1 {
-            vel.par_iter_mut()
-                .zip(omega.par_iter_mut())
-                .enumerate()
-                .with_min_len(PAR_MIN / 2)
-                .for_each(update);
-        } else {
-            vel.iter_mut()
-                .zip(omega.iter_mut())
-                .enumerate()
-                .for_each(update);
-        }
+        super::each_velocity(vel, omega, update);
     }
 }
 
