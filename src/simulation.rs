@@ -201,8 +201,8 @@ impl Simulation {
         let pipeline = Pipeline::build(&scene)?;
         let m = &scene.material;
         // Breaking grains end as pieces of an eighth of their mass (three splits at most,
-        // Section 3.3.3) whose Rayleigh time is about half the grain's: the step is chosen
-        // for them from the start.
+        // Section 3.3.3) whose Rayleigh time is about half the grain's: the first step is
+        // chosen for them; `adapt_time_step` shortens it further when pieces' contacts ask.
         let fracture = scene.has_effect(EffectKind::Fracture);
         let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
         let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson);
@@ -418,7 +418,7 @@ impl Simulation {
             self.pipeline.reshaped(&reshaped);
             self.forces = Forces::new(self.bodies.len());
             self.evaluate_forces(false);
-            self.adapt_time_step();
+            self.adapt_time_step(self.pipeline.max_frequency(&self.bodies, &self.walls));
             let after = self.mechanical_energy();
             let fracture = self.fracture.as_mut().expect("checked above");
             fracture.split_energy += after.total() - before.total();
@@ -583,11 +583,12 @@ impl Simulation {
     /// grows back. Checked at every output step and after every split. Without it the pieces'
     /// spins went unstable (ω dt estimated 1.3, the rotational modes beyond 2) and fed energy to
     /// the contacts' damping: 91% energy-balance error in a 5×5×5 hcp SHPB sample at 0.2 strain.
-    fn adapt_time_step(&mut self) {
+    /// `omega` is the current estimate of the highest frequency (rad/s).
+    fn adapt_time_step(&mut self, omega: f64) {
         if self.fracture.is_none() || self.scene.time.dt != DtSpec::Auto {
             return;
         }
-        let omega_dt = self.pipeline.max_frequency(&self.bodies, &self.walls) * self.dt;
+        let omega_dt = omega * self.dt;
         if omega_dt <= ADAPT_OMEGA_DT {
             return;
         }
@@ -605,8 +606,9 @@ impl Simulation {
     /// infinite (SHPB to 10% strain: 1% off at an estimated ω dt of 1.7, 22% at 2.04). The
     /// estimate is checked at every output step; above 2 the run stops, above 1.6 it warns.
     fn check_stability(&mut self) -> Result<()> {
-        self.adapt_time_step();
-        let omega_dt = self.pipeline.max_frequency(&self.bodies, &self.walls) * self.dt;
+        let omega = self.pipeline.max_frequency(&self.bodies, &self.walls);
+        self.adapt_time_step(omega);
+        let omega_dt = omega * self.dt;
         self.max_omega_dt = self.max_omega_dt.max(omega_dt);
         if omega_dt > OMEGA_DT_LIMIT {
             return Err(Error::run(format!(
@@ -720,10 +722,7 @@ impl Simulation {
             let rho = self.scene.material.density;
             let mut d50 = serde_json::Map::new();
             for (e, masses) in &self.psd {
-                let pieces: Vec<(f64, f64)> = masses
-                    .iter()
-                    .map(|&mm| (mm, size_distribution::equivalent_diameter(mm, rho)))
-                    .collect();
+                let pieces = size_distribution::pieces(masses, rho);
                 d50.insert(
                     format!("{e}"),
                     size_distribution::median_diameter(&pieces).into(),
@@ -778,12 +777,7 @@ impl Simulation {
         let curves: Vec<Vec<(f64, f64)>> = self
             .psd
             .iter()
-            .map(|(_, masses)| {
-                masses
-                    .iter()
-                    .map(|&mm| (mm, size_distribution::equivalent_diameter(mm, rho)))
-                    .collect()
-            })
+            .map(|(_, masses)| size_distribution::pieces(masses, rho))
             .collect();
         let sieves = size_distribution::sieve_sizes(curves.iter().flatten().map(|p| p.1), 40);
         let passing: Vec<Vec<f64>> = curves

@@ -273,8 +273,8 @@ pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
     chunk_threads: usize,
     pending: Option<SavedHistory>,
     contacts: usize,
-    /// POLY: the last normal of each pair slot (zero: none yet), the placements of this
-    /// evaluation and its records.
+    /// POLY: what each pair slot remembers (last normal, held Hertz radius), the placements
+    /// of this evaluation and its records.
     pair_memory: Vec<PairMemory>,
     /// POLY: held Hertz radius per wall candidate (0: not in contact).
     wall_radius: Vec<Vec<f64>>,

@@ -483,7 +483,7 @@ impl GrainFracture {
             for (p, fk) in points.iter().zip(&f) {
                 let f0 = fk.norm();
                 // A spring with no force would break at once: it is not made.
-                if f0 <= 1e-12 * scale || f0 == 0.0 {
+                if f0 <= 1e-12 * scale {
                     continue;
                 }
                 let world = p + bodies.pos[a];

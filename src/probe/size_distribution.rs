@@ -9,6 +9,14 @@ pub fn equivalent_diameter(mass: f64, density: f64) -> f64 {
     (6.0 * mass / (std::f64::consts::PI * density)).cbrt()
 }
 
+/// Pieces of the given masses (kg) as (mass, equivalent diameter) pairs.
+pub fn pieces(masses: &[f64], density: f64) -> Vec<(f64, f64)> {
+    masses
+        .iter()
+        .map(|&m| (m, equivalent_diameter(m, density)))
+        .collect()
+}
+
 /// `bins` sieve sizes spaced evenly in log between the smallest and largest of `diameters`.
 pub fn sieve_sizes(diameters: impl Iterator<Item = f64>, bins: usize) -> Vec<f64> {
     let (lo, hi) = diameters.fold((f64::INFINITY, 0.0f64), |(lo, hi), d| {
