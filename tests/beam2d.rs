@@ -344,17 +344,7 @@ fn runs_repeat_bit_for_bit_on_any_thread_count_and_resume_exactly() {
     let c = small_explosion(dir.path(), "c", &["--threads", "2"]);
     let ck = a.join("checkpoints/step_000000400.fcp");
     let resumed = dir.path().join("resumed");
-    let o = common::fractum(
-        dir.path(),
-        &[
-            "resume",
-            ck.to_str().unwrap(),
-            "--out",
-            resumed.to_str().unwrap(),
-            "--quiet",
-        ],
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::resume(dir.path(), &ck, &resumed);
     for file in [
         "summary.json",
         "series.csv",

@@ -77,6 +77,21 @@ pub fn scene_file(text: &str) -> (tempfile::TempDir, PathBuf) {
     (dir, file)
 }
 
+/// `fractum resume CHECKPOINT --out OUT --quiet` in `cwd`; panics with its stderr on failure.
+pub fn resume(cwd: &Path, checkpoint: &Path, out: &Path) {
+    let o = fractum(
+        cwd,
+        &[
+            "resume",
+            checkpoint.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
 /// A result file's text without the summary's `wall_seconds` line, the one part that is timing.
 pub fn without_wall_seconds(p: &Path) -> String {
     std::fs::read_to_string(p)
