@@ -1,29 +1,28 @@
 //! `cargo bench --bench fracture`: (1) particle-steps per second for 1000 poly-ellipsoids
-//! (axis ratios 1 to 2) in a dense packing, on 1 and 2 threads; (2) wall seconds per 1% of
+//! (axis ratios 1 to 2) in a dense packing (compacted to 100 kPa), on 1 and 2 threads; (2) wall seconds per 1% of
 //! axial strain of the SHPB scene (scenes/shpb_sand.toml to 2% strain) on 1 and 2 threads,
 //! and the particle count after fracture. Prints, asserts nothing.
 
 use std::path::Path;
 
 fn main() {
-    let cache = fractum::bench::default_cache();
     let mut note = |m: &str| eprintln!("{m}");
-    println!("| poly-ellipsoids | threads | contacts | steps | wall s | particle-steps/s |");
-    println!("|---:|---:|---:|---:|---:|---:|");
-    for threads in [1, 2] {
-        match fractum::bench::time_poly_ellipsoid_case(1000, threads, 2000, &cache, &mut note) {
-            Ok(c) => println!(
-                "| {} | {} | {} | {} | {:.3} | {:.3e} |",
-                c.bodies,
-                c.threads,
-                c.contacts,
-                c.steps,
-                c.seconds,
-                c.particle_steps_per_second()
-            ),
-            Err(e) => eprintln!("error: {e}"),
+    let mut cases = Vec::new();
+    match fractum::bench::dense_poly_ellipsoids(1000, &mut note) {
+        Ok((scene, sample)) => {
+            for threads in [1, 2] {
+                match fractum::bench::time_poly_ellipsoid_case(&scene, &sample, threads, 2000) {
+                    Ok(c) => cases.push(c),
+                    Err(e) => eprintln!("error: {e}"),
+                }
+            }
         }
+        Err(e) => eprintln!("error: {e}"),
     }
+    println!(
+        "poly-ellipsoids, axis ratios 1 to 2:\n{}",
+        fractum::bench::table(&cases)
+    );
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shpb_sand.toml");
     let overrides = [
         "loading.end_strain=0.02".to_string(),

@@ -104,17 +104,17 @@ pub fn dense_packing(
 /// Times `steps` steps (after 200 warm-up steps) of the packing on `threads` threads.
 pub fn time_case(sample: &Sample, bodies: usize, threads: usize, steps: u64) -> Result<BenchCase> {
     let scene = Scene::from_toml(&scene_text(bodies), "bench", Path::new("."), &[])?;
-    let s = Sample {
+    time_sample(scene, sample, threads, steps)
+}
+
+/// Times `steps` steps of (a copy of) `sample` under `scene` after 200 warm-up steps.
+fn time_sample(scene: Scene, sample: &Sample, threads: usize, steps: u64) -> Result<BenchCase> {
+    let copy = Sample {
         bodies: sample.bodies.clone(),
         walls: sample.walls.clone(),
         info: sample.info.clone(),
     };
-    time_sample(scene, s, threads, steps)
-}
-
-/// Times `steps` steps of `sample` under `scene` after 200 warm-up steps.
-fn time_sample(scene: Scene, sample: Sample, threads: usize, steps: u64) -> Result<BenchCase> {
-    let mut sim = Simulation::from_sample(scene, sample, threads)?;
+    let mut sim = Simulation::from_sample(scene, copy, threads)?;
     sim.advance(200)?;
     let start = Instant::now();
     sim.advance(steps)?;
@@ -235,35 +235,33 @@ pub fn polygon_table(cases: &[PolygonCase]) -> String {
 
 // granular fracture: poly-ellipsoid contact throughput and the SHPB scene's cost per strain.
 
-/// Times `steps` steps of `bodies` poly-ellipsoids with axis ratios from 1 to 2 (each
-/// semi-axis uniform in [r/2, r]), randomly oriented, inscribed in the spheres of the cached
-/// jammed packing: every neighbour pair of the packing is a candidate pair whose bounding
-/// spheres overlap, so each step runs the convex contact search on all of them. The same
-/// contact model as [`time_case`] (Hertz–Mindlin with damping, on the local curvatures).
-pub fn time_poly_ellipsoid_case(
+/// A dense packing of `bodies` poly-ellipsoids with axis ratios from 1 to 2 (each semi-axis
+/// uniform in [r/2, r] of a packed sphere of radius r), randomly oriented: the sample of the
+/// sphere benchmark's scene with `shape = "poly_ellipsoid"`, compacted by its servo walls
+/// until every wall carries 100 kPa. Returns the scene with it.
+pub fn dense_poly_ellipsoids(
     bodies: usize,
-    threads: usize,
-    steps: u64,
-    cache: &Path,
     progress: &mut (dyn FnMut(&str) + Send),
-) -> Result<BenchCase> {
-    let spheres = dense_packing(bodies, cache, progress)?;
+) -> Result<(Scene, Sample)> {
     let text = scene_text(bodies).replace(
         "compaction_friction = 0.1\n",
         "compaction_friction = 0.1\nshape = \"poly_ellipsoid\"\naspect_ratio_max = 2.0\n",
     );
     let scene = Scene::from_toml(&text, "bench", Path::new("."), &[])?;
-    let mut turned = spheres.bodies.clone();
-    let mut rng = sample::stream(scene.seed, 3);
-    for q in &mut turned.orientation {
-        *q = sample::random_orientation(&mut rng);
-    }
-    let s = Sample {
-        bodies: sample::poly_ellipsoids_in_spheres(&scene, &turned),
-        walls: spheres.walls.clone(),
-        info: spheres.info.clone(),
-    };
-    time_sample(scene, s, threads, steps)
+    let sample = sample::build(&scene, progress)?;
+    Ok((scene, sample))
+}
+
+/// Times `steps` steps (after 200 warm-up steps) of a poly-ellipsoid packing from
+/// [`dense_poly_ellipsoids`] on `threads` threads: the contact model of [`time_case`]
+/// (Hertz–Mindlin with damping) on the local curvatures.
+pub fn time_poly_ellipsoid_case(
+    scene: &Scene,
+    sample: &Sample,
+    threads: usize,
+    steps: u64,
+) -> Result<BenchCase> {
+    time_sample(scene.clone(), sample, threads, steps)
 }
 
 /// Runs a shipped SHPB scene (with `overrides`) to its end on `threads` threads and returns

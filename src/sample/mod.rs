@@ -91,7 +91,7 @@ fn single_grain(scene: &Scene, orient: &mut ChaCha8Rng) -> Result<(Bodies, Walls
 /// it, its six semi-axes drawn uniformly in [r / aspect_ratio_max, r] (so that each axis ratio
 /// lies between 1 and the maximum), its octant origin at the sphere's centre and its shape
 /// frame the sphere's orientation.
-pub(crate) fn poly_ellipsoids_in_spheres(scene: &Scene, spheres: &Bodies) -> Bodies {
+fn poly_ellipsoids_in_spheres(scene: &Scene, spheres: &Bodies) -> Bodies {
     let aspect = scene.sample.aspect_ratio_max.unwrap_or(2.0);
     let mut rng = stream(scene.seed, STREAM_SHAPES);
     let rho = scene.material.density;
