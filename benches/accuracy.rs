@@ -13,9 +13,11 @@
 use std::path::Path;
 use std::time::Instant;
 
+use fractum::Run;
+use fractum::Scene;
+use fractum::models::granular::Simulation;
 use fractum::sample::{Sample, SampleInfo};
 use fractum::state::{Bodies, Vec3, Walls};
-use fractum::{Scene, Simulation};
 use nalgebra::UnitQuaternion;
 use plotters::prelude::*;
 
@@ -66,7 +68,7 @@ fn impact(effects: &str, dt: f64, r: f64, v: f64, t_c: f64) -> (f64, f64) {
     let mut end = None;
     while !sim.finished() && end.is_none() {
         sim.advance(1).unwrap();
-        let now = (sim.time, gap(&sim));
+        let now = (sim.clock.time, gap(&sim));
         if prev.1 < 0.0 && now.1 >= 0.0 {
             end = Some(prev.0 + (now.0 - prev.0) * (-prev.1) / (now.1 - prev.1));
         }
@@ -117,7 +119,7 @@ fn main() {
         sim.advance(u64::MAX).ok()?;
         let wall = start.elapsed().as_secs_f64();
         let stress = sim.summary()["stress_final"].as_f64()?;
-        stress.is_finite().then_some((stress, wall, sim.step))
+        stress.is_finite().then_some((stress, wall, sim.clock.step))
     };
     let (reference, ref_wall, ref_steps) = run(0.025).expect("the reference run is stable");
     println!(

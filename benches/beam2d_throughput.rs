@@ -8,8 +8,8 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use fractum::Scene;
-use fractum::beam2d::Beam2dRun;
-use fractum::bench::{PolygonCase, polygon_table, time_beam2d_scene};
+use fractum::models::beam2d::Beam2dRun;
+use fractum::models::beam2d::bench::{PolygonCase, polygon_table, time_beam2d_scene};
 
 fn scenes() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes")
@@ -78,7 +78,7 @@ fn accuracy_table() -> String {
             };
             s.push_str(&format!(
                 "| {integrator} | {dt:e} | {} | {error} | {wall:.3} |\n",
-                run.step
+                run.clock.step
             ));
         }
     }

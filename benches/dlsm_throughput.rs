@@ -11,8 +11,8 @@ fn main() {
     } else {
         sizes
     };
-    match fractum::dlsm::bench::run(&sizes, &[1, 2], 500) {
-        Ok(cases) => println!("{}", fractum::dlsm::bench::table(&cases)),
+    match fractum::models::dlsm::bench::run(&sizes, &[1, 2], 500) {
+        Ok(cases) => println!("{}", fractum::models::dlsm::bench::table(&cases)),
         Err(e) => eprintln!("error: {e}"),
     }
 }

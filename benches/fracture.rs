@@ -8,10 +8,12 @@ use std::path::Path;
 fn main() {
     let mut note = |m: &str| eprintln!("{m}");
     let mut cases = Vec::new();
-    match fractum::bench::dense_poly_ellipsoids(1000, &mut note) {
+    match fractum::models::granular::bench::dense_poly_ellipsoids(1000, &mut note) {
         Ok((scene, sample)) => {
             for threads in [1, 2] {
-                match fractum::bench::time_poly_ellipsoid_case(&scene, &sample, threads, 2000) {
+                match fractum::models::granular::bench::time_poly_ellipsoid_case(
+                    &scene, &sample, threads, 2000,
+                ) {
                     Ok(c) => cases.push(c),
                     Err(e) => eprintln!("error: {e}"),
                 }
@@ -21,7 +23,7 @@ fn main() {
     }
     println!(
         "poly-ellipsoids, axis ratios 1 to 2:\n{}",
-        fractum::bench::table(&cases)
+        fractum::models::granular::bench::table(&cases)
     );
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shpb_sand.toml");
     let overrides = [
@@ -32,7 +34,7 @@ fn main() {
     println!("| SHPB scene | threads | wall s per 1% strain | grains | bodies at 2% strain |");
     println!("|---|---:|---:|---:|---:|");
     for threads in [1, 2] {
-        match fractum::bench::time_shpb(&scene, &overrides, threads) {
+        match fractum::models::granular::bench::time_shpb(&scene, &overrides, threads) {
             Ok((per_percent, grains, bodies)) => {
                 println!("| shpb_sand to 2% | {threads} | {per_percent:.2} | {grains} | {bodies} |")
             }

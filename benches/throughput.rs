@@ -2,10 +2,10 @@
 //! packings with 1 and 2 threads (the same code as `fractum bench`). Prints, asserts nothing.
 
 fn main() {
-    let cache = fractum::bench::default_cache();
+    let cache = fractum::models::granular::bench::default_cache();
     let mut note = |m: &str| eprintln!("{m}");
-    match fractum::bench::run(&[1000, 8000], &[1, 2], 3000, &cache, &mut note) {
-        Ok(cases) => println!("{}", fractum::bench::table(&cases)),
+    match fractum::models::granular::bench::run(&[1000, 8000], &[1, 2], 3000, &cache, &mut note) {
+        Ok(cases) => println!("{}", fractum::models::granular::bench::table(&cases)),
         Err(e) => eprintln!("error: {e}"),
     }
 }

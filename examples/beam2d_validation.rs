@@ -17,8 +17,9 @@
 
 use std::path::{Path, PathBuf};
 
+use fractum::Run;
 use fractum::Scene;
-use fractum::beam2d::{Beam2dRun, averaged_power_law};
+use fractum::models::beam2d::{Beam2dRun, averaged_power_law};
 use fractum::probe::fragments::{fit_power_law, mass_histogram};
 use fractum::shape::polygon::{MAX_VERTICES, Vec2};
 use plotters::prelude::*;
@@ -116,10 +117,10 @@ fn moduli() -> Plot {
         rows.push(row);
     }
     let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r.0, r.1)).collect();
-    let slope = fractum::loading::least_squares_slope(&pts);
+    let slope = fractum::probe::fit::least_squares_slope(&pts);
     println!(
         "\nK elongation against E: slope {slope:.4}, R² = {:.6}\n",
-        fractum::loading::r_squared(&pts, slope)
+        fractum::probe::fit::r_squared(&pts, slope)
     );
     let file = img("beam2d_moduli.svg");
     let root = SVGBackend::new(&file, (640, 440)).into_drawing_area();
@@ -286,7 +287,7 @@ fn compression() -> Plot {
     // between the polygons' centres at rest.
     let peak_time = s["peak_time"].as_f64().unwrap();
     let start = Beam2dRun::new(r.scene.clone(), 1, &mut |_| {}).unwrap();
-    let moments = [0.9 * peak_time, peak_time, r.time];
+    let moments = [0.9 * peak_time, peak_time, r.clock.time];
     let file = img("beam2d_compression_cracks.svg");
     let root = SVGBackend::new(&file, (780, 440)).into_drawing_area();
     root.fill(&WHITE)?;
@@ -368,7 +369,7 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
             "| {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.1e} |",
             r.scene.seed,
             r.polygons.len(),
-            r.step,
+            r.clock.step,
             s["broken_beams"],
             s["fragments"],
             s["beta"].as_f64().unwrap_or(f64::NAN),

@@ -13,8 +13,9 @@
 use std::io::Write;
 use std::path::PathBuf;
 
+use fractum::Run;
 use fractum::Scene;
-use fractum::dlsm::DlsmRun;
+use fractum::models::dlsm::DlsmRun;
 use fractum::sample::voronoi::{
     Domain, face_normal_fabric, noisy_grid_seeds, packing_seeds, tessellate,
 };
@@ -38,7 +39,7 @@ fn run(file: &str, overrides: &[String]) -> (DlsmRun, Value) {
             s["error"] = json!(e.to_string());
             return (run, s);
         }
-        eprintln!("  step {} of {}", run.step, run.end_step);
+        eprintln!("  step {} of {}", run.clock.step, run.clock.end_step);
     }
     let mut s = run.summary();
     s["wall_seconds"] = json!(started.elapsed().as_secs_f64());

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use fractum::driver::{RunOptions, run_to_end};
-use fractum::output::{OutputDir, checkpoint};
+use fractum::output::OutputDir;
 use fractum::{Error, Run, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -83,7 +83,7 @@ enum Command {
     },
 }
 
-#[derive(Clone, Copy, clap::ValueEnum)]
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum ExportFormat {
     Lammps,
     Yade,
@@ -127,7 +127,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             let say = messenger(options.quiet);
             say(&format!("{}: building the sample", scene.name));
             let mut note = |m: &str| say(m);
-            let sim = fractum::run::build(scene, options.threads, &mut note)?;
+            let sim = fractum::models::build(scene, options.threads, &mut note)?;
             run(sim, out, Vec::new(), &options)
         }
         Command::Resume {
@@ -135,7 +135,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             out,
             options,
         } => {
-            let (sim, frames) = checkpoint::load(&path, options.threads)?;
+            let (sim, frames) = fractum::models::resume(&path, options.threads)?;
             messenger(options.quiet)(&format!(
                 "{}: resuming at step {} of {}",
                 sim.scene().name,
@@ -154,55 +154,18 @@ fn dispatch(command: Command) -> Result<(), Error> {
             let scene = Scene::load(&scene, &set)?;
             let say = messenger(quiet);
             let mut note = |m: &str| say(m);
-            let sample = fractum::sample::build(&scene, &mut note)?;
-            let count = sample.bodies.len();
-            let sim = fractum::Simulation::from_sample(scene, sample, 1)?;
-            let plan = fractum::export::RunPlan::of(&sim);
-            let name = &sim.scene.name;
-            let files = match format {
-                ExportFormat::Lammps => [
-                    (
-                        "packing.data",
-                        fractum::export::lammps_data(
-                            &sim.bodies,
-                            &sim.walls,
-                            sim.scene.material.density,
-                            name,
-                        ),
-                    ),
-                    (
-                        "in.fractum",
-                        fractum::export::lammps_input(&plan, "packing.data", "series_lammps.csv")?,
-                    ),
-                ],
-                ExportFormat::Yade => [
-                    (
-                        "packing.txt",
-                        fractum::export::yade_text(&sim.bodies, &sim.walls, name),
-                    ),
-                    (
-                        "fractum_yade.py",
-                        fractum::export::yade_script(&plan, "packing.txt", "series_yade.csv")?,
-                    ),
-                ],
-            };
-            std::fs::create_dir_all(&dir).map_err(|e| Error::io(&dir, "create the folder", e))?;
-            for (file, text) in &files {
-                fractum::output::write_atomic(&dir.join(file), text.as_bytes())?;
-            }
-            say(&format!(
-                "{name}: wrote {} and {} in {} ({count} spheres, {} steps of {:.4e} s)",
-                files[0].0,
-                files[1].0,
-                dir.display(),
-                sim.end_step,
-                sim.dt
-            ));
+            let written = fractum::models::granular::export::export(
+                scene,
+                format == ExportFormat::Lammps,
+                &dir,
+                &mut note,
+            )?;
+            say(&written);
             Ok(())
         }
         Command::Explain { scene, set } => {
             let scene = Scene::load(&scene, &set)?;
-            print!("{}", fractum::explain::explain(&scene)?);
+            print!("{}", fractum::models::explain(&scene)?);
             Ok(())
         }
         Command::Bench {
@@ -210,10 +173,11 @@ fn dispatch(command: Command) -> Result<(), Error> {
             threads,
             steps,
         } => {
-            let cache = fractum::bench::default_cache();
+            let cache = fractum::models::granular::bench::default_cache();
             let mut note = |m: &str| eprintln!("{m}");
-            let cases = fractum::bench::run(&bodies, &threads, steps, &cache, &mut note)?;
-            println!("{}", fractum::bench::table(&cases));
+            let cases =
+                fractum::models::granular::bench::run(&bodies, &threads, steps, &cache, &mut note)?;
+            println!("{}", fractum::models::granular::bench::table(&cases));
             Ok(())
         }
     }

@@ -13,8 +13,8 @@ mod common;
 use std::fs;
 use std::path::Path;
 
-use fractum::Scene;
-use fractum::beam2d::{Beam2dRun, averaged_power_law};
+use fractum::models::beam2d::{Beam2dRun, averaged_power_law};
+use fractum::{Run, Scene};
 
 fn scene(file: &str, sets: &[String]) -> Scene {
     Scene::load(&common::repo().join("scenes").join(file), sets).unwrap()
@@ -101,8 +101,8 @@ fn elongation_modulus_is_linear_in_the_beam_modulus_and_compression_is_stiffer()
     );
     // "In the case of elongation K is a linear function of E."
     let pts: Vec<(f64, f64)> = moduli.iter().copied().zip(k_el.iter().copied()).collect();
-    let slope = fractum::loading::least_squares_slope(&pts);
-    let r2 = fractum::loading::r_squared(&pts, slope);
+    let slope = fractum::probe::fit::least_squares_slope(&pts);
+    let r2 = fractum::probe::fit::r_squared(&pts, slope);
     assert!(r2 > 0.99, "R² = {r2}");
     assert!(slope > 0.0);
     for k in 0..moduli.len() {
@@ -294,7 +294,7 @@ fn beams_conserve_energy_with_both_integrators_and_they_agree() {
         );
         let r = run_to_end(s);
         assert_all_finite(&r);
-        (r.polygons.kinetic_energy(), r.beam_energy(), r.step)
+        (r.polygons.kinetic_energy(), r.beam_energy(), r.clock.step)
     };
     let (gear, verlet) = (run_with("gear5"), run_with("velocity_verlet"));
     eprintln!("gear5 {gear:?}, velocity Verlet {verlet:?}");

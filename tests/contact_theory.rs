@@ -4,7 +4,7 @@
 
 mod common;
 
-use fractum::Simulation;
+use fractum::models::granular::Simulation;
 use fractum::state::{Bodies, BoxFace, Vec3, Walls};
 use nalgebra::UnitQuaternion;
 
@@ -41,14 +41,15 @@ fn head_on(effects: &str, e: f64, r: f64, v: f64) -> (f64, f64, f64) {
     let t_c = 2.87 * (m_eff * m_eff / (r_eff * e_eff().powi(2) * 2.0 * v)).powf(0.2);
     let dt = t_c / 4000.0;
     let mut scene = common::scene(effects, "", 3.0 * t_c, dt);
-    scene.material.restitution = e;
+    fractum::scene::apply_override(&mut scene.tables, &format!("material.restitution={e:e}"))
+        .unwrap();
     let mut sim = Simulation::from_sample(scene, common::sample(b, Walls::default()), 1).unwrap();
     let overlap = |s: &Simulation| 2.0 * r - (s.bodies.pos[1] - s.bodies.pos[0]).norm();
     let (mut start, mut end, mut max_overlap) = (None, None, 0.0_f64);
-    let mut prev = (sim.time, overlap(&sim));
+    let mut prev = (sim.clock.time, overlap(&sim));
     while !sim.finished() {
         sim.advance(1).unwrap();
-        let now = (sim.time, overlap(&sim));
+        let now = (sim.clock.time, overlap(&sim));
         // Interpolate the instants where the overlap changes sign.
         let cross = prev.0 + (now.0 - prev.0) * prev.1 / (prev.1 - now.1);
         if prev.1 <= 0.0 && now.1 > 0.0 && start.is_none() {
@@ -124,11 +125,12 @@ fn sliding_sphere_saturates_at_mu_n_then_rolls_at_five_sevenths() {
         2.0 * t_roll,
         2e-7,
     );
-    scene.material.friction = mu;
+    fractum::scene::apply_override(&mut scene.tables, &format!("material.friction={mu:e}"))
+        .unwrap();
     let mut sim = Simulation::from_sample(scene, common::sample(b, walls), 1).unwrap();
     let mut saturated = 0;
     let mut worst: f64 = 0.0;
-    while sim.time < 0.8 * t_roll {
+    while sim.clock.time < 0.8 * t_roll {
         sim.advance(1).unwrap();
         let f = sim.walls.face(BoxFace::ZMin).force;
         let normal = -f.z;

@@ -6,7 +6,7 @@
 
 mod common;
 
-use fractum::dlsm::DlsmRun;
+use fractum::models::dlsm::DlsmRun;
 use fractum::sample::voronoi::{
     Domain, face_normal_fabric, noisy_grid_seeds, packing_seeds, tessellate,
 };
@@ -116,7 +116,7 @@ fn rolling_ball_stays_stable_keeps_its_energy_and_rolls_down() {
     )
     .unwrap();
     run.advance(50_000).expect("50,000 steps without a NaN");
-    assert_eq!(run.step, 50_000);
+    assert_eq!(run.step(), 50_000);
     let s = run.summary();
     let ratio = get(&s, "max_energy_ratio");
     assert!(ratio <= 1.01, "energy rose to {ratio} of its initial value");
@@ -183,9 +183,9 @@ fn one_and_two_threads_give_identical_results_and_resume_continues_bit_for_bit()
     // Stop halfway, save, restore and finish: the same summary as the straight run.
     let sc = scene("scenes/dlsm_tensile_failure.toml", &small_failure());
     let mut first = DlsmRun::new(sc.clone(), 1, &mut |_| {}).unwrap();
-    first.advance(a.step / 2).unwrap();
+    first.advance(a.step() / 2).unwrap();
     let bytes = first.save_state();
-    let mut resumed = fractum::run::restore(sc, &bytes, 1).unwrap();
+    let mut resumed = fractum::models::restore(sc, &bytes, 1).unwrap();
     while !resumed.finished() {
         resumed.advance(10_000).unwrap();
     }

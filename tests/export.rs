@@ -12,7 +12,7 @@ fn exported_packings_read_back_bit_for_bit() {
     let text = common::small_oedometer(150, "\"contact\"", 0.001);
     let (dir, scene_path) = common::scene_file(&text);
     let scene = Scene::from_toml(&text, "t", dir.path(), &[]).unwrap();
-    let original = fractum::sample::build(&scene, &mut |_| {}).unwrap();
+    let original = fractum::models::granular::sample::from_scene(&scene, &mut |_| {}).unwrap();
     for (format, file, kind) in [
         ("lammps", "packing.data", "lammps_data"),
         ("yade", "packing.txt", "yade_text"),
@@ -37,7 +37,8 @@ fn exported_packings_read_back_bit_for_bit() {
         let import_text = text.replace("box = [3e-3, 3e-3, 3e-3]\n", "");
         let imported_scene =
             Scene::from_toml(&import_text, "t", Path::new("."), &overrides).unwrap();
-        let imported = fractum::sample::build(&imported_scene, &mut |_| {}).unwrap();
+        let imported =
+            fractum::models::granular::sample::from_scene(&imported_scene, &mut |_| {}).unwrap();
         assert_eq!(imported.bodies.len(), original.bodies.len(), "{format}");
         assert_eq!(
             imported.bodies.pos, original.bodies.pos,

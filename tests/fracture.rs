@@ -4,10 +4,10 @@
 
 mod common;
 
-use fractum::Simulation;
 use fractum::effects::{ContactRecord, ContactRecords, WALL};
 use fractum::fracture::Criterion;
 use fractum::fracture::break_plane::Trigger;
+use fractum::models::granular::Simulation;
 use fractum::state::{Bodies, Forces, Vec3, Walls};
 use nalgebra::UnitQuaternion;
 use std::f64::consts::PI;

@@ -6,7 +6,7 @@ mod common;
 use std::fs;
 use std::path::Path;
 
-use fractum::Simulation;
+use fractum::models::granular::Simulation;
 
 fn run(dir: &Path, scene: &Path, out: &str, extra: &[&str]) {
     let out = dir.join(out);

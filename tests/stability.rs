@@ -3,7 +3,8 @@
 
 mod common;
 
-use fractum::Simulation;
+use fractum::Run;
+use fractum::models::granular::Simulation;
 use fractum::state::{Bodies, Vec3, Walls};
 use nalgebra::UnitQuaternion;
 

@@ -26,7 +26,6 @@ use crate::contact::hertz_mindlin::{
 use crate::contact::neighbor::{PairList, WallLists, transfer_pair_data, transfer_wall_data};
 use crate::error::{Error, Result};
 use crate::parallel::threads_here;
-use crate::scene::{EffectKind, GrainShape, Scene};
 use crate::shape::Shape;
 use crate::state::{Bodies, Forces, Vec3, Walls};
 
@@ -45,29 +44,6 @@ pub struct ContactParams {
     /// Bodies other than spheres may take part (poly-ellipsoids): build the `POLY` variant,
     /// which also records every contact.
     pub shapes: bool,
-}
-
-impl ContactParams {
-    /// The contact model a scene asks for. `friction` overrides the material's coefficient
-    /// (sample preparation compacts with its own).
-    pub fn from_scene(scene: &Scene, friction: Option<f64>) -> Self {
-        let m = &scene.material;
-        let damping = scene
-            .has_effect(EffectKind::Damping)
-            .then(|| ViscousDamping::from_restitution(m.restitution));
-        let mindlin = scene
-            .has_effect(EffectKind::Friction)
-            .then(|| Mindlin::new(m.young, m.poisson, friction.unwrap_or(m.friction)));
-        ContactParams {
-            hertz: Hertz::new(m.young, m.poisson),
-            damping,
-            mindlin,
-            wall_friction: scene.walls.friction,
-            skin: scene.neighbor.skin,
-            shapes: scene.has_effect(EffectKind::Fracture)
-                || scene.sample.shape == Some(GrainShape::PolyEllipsoid),
-        }
-    }
 }
 
 /// Builds the contact effect with exactly the sub-models in `params`.

@@ -7,12 +7,9 @@
 
 pub mod contact;
 pub mod gravity;
-// beam2d: the polygon contact and beam forces.
-pub mod polygon2d;
 
 use crate::error::{Error, Result};
-use crate::scene::{EffectKind, Scene};
-use crate::state::{Bodies, Forces, Walls};
+use crate::state::{Bodies, Forces, Vec3, Walls};
 
 pub use contact::{ContactParams, ContactRecord, ContactRecords, WALL, build_contact};
 pub use gravity::Gravity;
@@ -78,17 +75,17 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// Builds exactly the effects the scene lists. The order of evaluation is fixed
-    /// (contact, then body forces), whatever the order of the list.
-    pub fn build(scene: &Scene) -> Result<Pipeline> {
+    /// Builds exactly the effects asked for: a contact model and gravity (m/s²). The order
+    /// of evaluation is fixed (contact, then body forces).
+    pub fn new(contact: Option<ContactParams>, gravity: Option<Vec3>) -> Pipeline {
         let mut effects: Vec<Box<dyn Effect>> = Vec::new();
-        if scene.has_effect(EffectKind::Contact) {
-            effects.push(build_contact(ContactParams::from_scene(scene, None)));
+        if let Some(params) = contact {
+            effects.push(build_contact(params));
         }
-        if scene.has_effect(EffectKind::Gravity) {
-            effects.push(Box::new(Gravity::new(scene.gravity.acceleration.into())));
+        if let Some(g) = gravity {
+            effects.push(Box::new(Gravity::new(g)));
         }
-        Ok(Pipeline { effects })
+        Pipeline { effects }
     }
 
     pub fn accumulate(

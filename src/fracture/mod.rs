@@ -23,7 +23,10 @@
 pub mod break_plane;
 pub mod cohesion;
 pub mod criteria;
+mod spec;
 pub mod subdivision;
+
+pub use spec::FractureSpec;
 
 use nalgebra::{Matrix3, UnitQuaternion};
 use rand::RngExt;
@@ -32,7 +35,6 @@ use serde::{Deserialize, Serialize};
 
 use crate::effects::ContactRecords;
 use crate::probe::fragments;
-use crate::scene::{EffectKind, Scene};
 use crate::state::{Bodies, Forces, Vec3};
 use break_plane::Trigger;
 use cohesion::{Demand, Spring};
@@ -56,29 +58,31 @@ pub struct FractureParams {
 }
 
 impl FractureParams {
-    pub fn from_scene(scene: &Scene) -> Self {
-        let f = &scene.fracture;
-        let m = &scene.material;
+    /// The constants of `spec` for grains of Young's modulus `young` (Pa) and Poisson's ratio
+    /// `poisson`, with Weibull statistics and cohesion as asked.
+    pub fn new(
+        spec: &FractureSpec,
+        young: f64,
+        poisson: f64,
+        weibull: bool,
+        cohesion: bool,
+    ) -> Self {
+        let f = spec;
         FractureParams {
             mi: f.mi,
             sigma_c: f.sigma_c,
-            sigma_f: f.reference_strength.expect("validated with fracture"),
-            weibull: scene.has_effect(EffectKind::Weibull).then(|| {
-                (
-                    f.weibull_modulus,
-                    f.reference_radius.expect("validated with weibull"),
-                )
-            }),
+            sigma_f: f.reference_strength.unwrap_or(f64::NAN),
+            weibull: weibull.then(|| (f.weibull_modulus, f.reference_radius.unwrap_or(f64::NAN))),
             critical_contacts: f.critical_contacts,
-            cohesion: scene.has_effect(EffectKind::Cohesion).then(|| {
+            cohesion: cohesion.then(|| {
                 (
-                    cohesion::cohesive_energy(f.toughness, m.young, m.poisson),
+                    cohesion::cohesive_energy(f.toughness, young, poisson),
                     f.springs,
                 )
             }),
             ideal_plane: f.ideal_plane,
             plane_jitter: f.plane_jitter,
-            poisson: m.poisson,
+            poisson,
         }
     }
 }
@@ -153,8 +157,7 @@ pub struct GrainFracture {
 const STREAM_FRACTURE: u64 = 11;
 
 impl GrainFracture {
-    pub fn new(scene: &Scene, bodies: &Bodies) -> Self {
-        let params = FractureParams::from_scene(scene);
+    pub fn new(params: FractureParams, seed: u64, bodies: &Bodies) -> Self {
         let n = bodies.len();
         let mut f = GrainFracture {
             params,
@@ -167,7 +170,7 @@ impl GrainFracture {
             events: Vec::new(),
             spring_work: 0.0,
             split_energy: 0.0,
-            rng: crate::sample::stream(scene.seed, STREAM_FRACTURE),
+            rng: crate::sample::stream(seed, STREAM_FRACTURE),
         };
         for i in 0..n {
             let s = f.draw_strength(bodies, i);

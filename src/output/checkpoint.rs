@@ -7,11 +7,11 @@ use serde::{Deserialize, Serialize};
 
 use super::Frame;
 use crate::error::{Error, Result};
-use crate::run::{self, Run};
+use crate::run::Run;
 use crate::scene::{Scene, io_reason};
 
 const MAGIC: &[u8; 8] = b"FRACTUM\x01";
-const FORMAT_VERSION: u32 = 2;
+const FORMAT_VERSION: u32 = 3;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {
@@ -46,8 +46,17 @@ pub fn encode(run: &dyn Run, frames: &[Frame]) -> Vec<u8> {
     bytes
 }
 
-/// A run restored from checkpoint bytes, with the VTK frames it had written.
-pub fn decode(bytes: &[u8], origin: &str, threads: usize) -> Result<(Box<dyn Run>, Vec<Frame>)> {
+/// What a checkpoint holds: the scene it was built from, the model's name, the run's state
+/// (for the registry's `restore`) and the VTK frames written so far.
+pub struct Saved {
+    pub scene: Scene,
+    pub model: String,
+    pub state: Vec<u8>,
+    pub frames: Vec<Frame>,
+}
+
+/// Reads checkpoint bytes (`origin` names them in messages).
+pub fn decode(bytes: &[u8], origin: &str) -> Result<Saved> {
     let body = bytes
         .strip_prefix(MAGIC.as_slice())
         .ok_or_else(|| Error::input(origin, "is not a Fractum checkpoint"))?;
@@ -68,22 +77,25 @@ pub fn decode(bytes: &[u8], origin: &str, threads: usize) -> Result<(Box<dyn Run
         Path::new(&ck.scene_dir),
         &ck.overrides,
     )?;
-    let run = run::restore(scene, &ck.state, threads)?;
-    if run.model() != ck.model {
+    if scene.model.kind != ck.model {
         return Err(Error::input(
             origin,
             format!(
                 "holds a {} run but its scene builds a {} one",
-                ck.model,
-                run.model()
+                ck.model, scene.model.kind
             ),
         ));
     }
-    Ok((run, ck.frames))
+    Ok(Saved {
+        scene,
+        model: ck.model,
+        state: ck.state,
+        frames: ck.frames,
+    })
 }
 
 /// Reads a checkpoint file.
-pub fn load(path: &Path, threads: usize) -> Result<(Box<dyn Run>, Vec<Frame>)> {
+pub fn load(path: &Path) -> Result<Saved> {
     let origin = path.display().to_string();
     let bytes = std::fs::read(path).map_err(|e| {
         Error::input(
@@ -91,5 +103,5 @@ pub fn load(path: &Path, threads: usize) -> Result<(Box<dyn Run>, Vec<Frame>)> {
             format!("cannot read the checkpoint ({})", io_reason(&e)),
         )
     })?;
-    decode(&bytes, &origin, threads)
+    decode(&bytes, &origin)
 }

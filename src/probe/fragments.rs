@@ -159,12 +159,12 @@ pub fn fit_power_law(bins: &[MassBin], lo: f64, hi: f64) -> Option<PowerLawFit> 
     if pts.len() < 3 {
         return None;
     }
-    let slope = crate::loading::least_squares_slope(&pts);
+    let slope = crate::probe::fit::least_squares_slope(&pts);
     Some(PowerLawFit {
         exponent: -slope,
         range: [lo, hi],
         bins: pts.len(),
-        r_squared: crate::loading::r_squared(&pts, slope),
+        r_squared: crate::probe::fit::r_squared(&pts, slope),
     })
 }
 

@@ -1,6 +1,7 @@
 //! Measurements recorded during a run: the rows of series.csv.
 
 pub mod energy;
+pub mod fit;
 pub mod fragments;
 pub mod size_distribution;
 pub mod spectrum;

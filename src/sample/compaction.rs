@@ -19,7 +19,6 @@ use crate::contact::hertz_mindlin::{Hertz, Mindlin, ViscousDamping};
 use crate::effects::{ContactParams, StepContext, build_contact};
 use crate::error::{Error, Result};
 use crate::integrate::{VelocityVerlet, rayleigh_time_step};
-use crate::scene::Scene;
 use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
 
 #[derive(Debug, Clone, Copy)]
@@ -54,25 +53,38 @@ const AXES: [(BoxFace, BoxFace); 3] = [
     (BoxFace::ZMin, BoxFace::ZMax),
 ];
 
-/// Compresses the bodies in the box `walls` until every face carries `pressure` (Pa).
+/// What to compact to, and the grains' material.
+#[derive(Debug, Clone, Copy)]
+pub struct CompactionSpec {
+    /// Young's modulus (Pa), Poisson's ratio and density (kg/m³) of the grains.
+    pub young: f64,
+    pub poisson: f64,
+    pub density: f64,
+    /// Verlet skin (m) of the neighbour list; `None`: the default.
+    pub skin: Option<f64>,
+    /// The stress (Pa) every face must carry.
+    pub pressure: f64,
+    /// Friction coefficient while compacting.
+    pub friction: f64,
+}
+
+/// Compresses the bodies in the box `walls` until every face carries `spec.pressure` (Pa).
 pub fn compact_to_pressure(
     bodies: &mut Bodies,
     walls: &mut Walls,
-    scene: &Scene,
-    pressure: f64,
-    friction: f64,
+    spec: &CompactionSpec,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<CompactionReport> {
-    let m = &scene.material;
+    let (pressure, friction) = (spec.pressure, spec.friction);
     let params = ContactParams {
-        hertz: Hertz::new(m.young, m.poisson),
+        hertz: Hertz::new(spec.young, spec.poisson),
         damping: Some(ViscousDamping::from_restitution(0.3)),
-        mindlin: (friction > 0.0).then(|| Mindlin::new(m.young, m.poisson, friction)),
+        mindlin: (friction > 0.0).then(|| Mindlin::new(spec.young, spec.poisson, friction)),
         wall_friction: None,
-        skin: scene.neighbor.skin,
+        skin: spec.skin,
         shapes: bodies.shape.iter().any(|s| !s.is_sphere()),
     };
-    let dt = 0.2 * rayleigh_time_step(bodies.min_radius(), m.density, m.young, m.poisson);
+    let dt = 0.2 * rayleigh_time_step(bodies.min_radius(), spec.density, spec.young, spec.poisson);
     let mut c = Compactor {
         contact: build_contact(params),
         vv: VelocityVerlet {

@@ -19,10 +19,27 @@
 use rand::RngExt;
 use serde::{Deserialize, Serialize};
 
-use crate::error::Result;
-use crate::scene::{Outline, Scene};
 use crate::shape::polygon::{MAX_VERTICES, TaggedPolygon, Vec2, cross};
 use crate::state::polygons::Polygons;
+
+/// The outline a polygon sample is cut to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outline {
+    /// `cells` squares of `spacing`, lower left corner at the origin.
+    Rectangle,
+    /// A disc of `diameter` centred at the origin.
+    Disc,
+}
+
+impl Outline {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Outline::Rectangle => "rectangle",
+            Outline::Disc => "disc",
+        }
+    }
+}
 
 /// Bits saying which part of the outline a polygon touches.
 pub const SIDE_LEFT: u8 = 1;
@@ -40,7 +57,7 @@ const REACH: i64 = 3;
 /// Vertices a cell may have while it is being cut.
 const WORK_CAPACITY: usize = 64;
 
-const STREAM_LATTICE: u64 = 11;
+pub(crate) const STREAM_LATTICE: u64 = 11;
 
 /// How to make a lattice.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -118,25 +135,6 @@ impl PolygonSample {
         self.info.polygons = self.polygons.len();
         self.info.shared_sides = self.sides.len();
     }
-}
-
-/// The lattice a scene describes.
-pub fn from_scene(scene: &Scene) -> Result<PolygonSample> {
-    let p = &scene.sample;
-    let spacing = p.spacing.expect("validated");
-    let shape = match p.outline.expect("validated") {
-        Outline::Rectangle => LatticeShape::Rectangle(p.cells.expect("validated")),
-        Outline::Disc => LatticeShape::Disc(p.diameter.expect("validated")),
-    };
-    let spec = LatticeSpec {
-        spacing,
-        disorder: p.disorder.expect("validated"),
-        shape,
-        thickness: p.thickness.unwrap_or(1.0),
-        density: scene.material.density,
-    };
-    let mut rng = super::stream(scene.seed, STREAM_LATTICE);
-    vectorizable_random_lattice(&spec, &mut rng).map_err(|m| scene.key_error("sample", m))
 }
 
 /// Makes the lattice. The error says why a polygon could not be made (it names no key).

@@ -1,9 +1,14 @@
 //! TOML text to a typed scene, with errors that name the key.
 
-use super::{Scene, overrides};
+use super::{COMMON_KEYS, Common, overrides};
 use crate::error::{Error, Result};
 
-pub(super) fn parse(text: &str, label: &str, overrides: &[String]) -> Result<Scene> {
+/// The shared keys, typed, and every other top-level table as given (for the model).
+pub(super) fn parse(
+    text: &str,
+    label: &str,
+    overrides: &[String],
+) -> Result<(Common, toml::Table)> {
     let mut table: toml::Table = text.parse().map_err(|e: toml::de::Error| {
         let line = e
             .span()
@@ -21,11 +26,15 @@ pub(super) fn parse(text: &str, label: &str, overrides: &[String]) -> Result<Sce
         .iter()
         .filter_map(|o| o.split_once('=').map(|(k, _)| k.trim().to_string()))
         .collect();
-    serde_path_to_error::deserialize(table).map_err(|e| {
+    let (common, tables): (toml::Table, toml::Table) = table
+        .into_iter()
+        .partition(|(k, _)| COMMON_KEYS.contains(&k.as_str()));
+    let common = serde_path_to_error::deserialize(toml::Value::Table(common)).map_err(|e| {
         let path = e.path().to_string();
         let message = e.inner().message().to_string();
         Error::input(label, describe(&path, &message, &overridden))
-    })
+    })?;
+    Ok((common, tables))
 }
 
 fn first_line(s: &str) -> &str {
@@ -33,7 +42,7 @@ fn first_line(s: &str) -> &str {
 }
 
 /// Turns a serde message at `path` into one sentence naming the key.
-fn describe(path: &str, message: &str, overridden: &[String]) -> String {
+pub fn describe(path: &str, message: &str, overridden: &[String]) -> String {
     let message = first_line(message);
     // The path of an unknown field already ends with it; that of a missing one does not.
     let join = |field: &str| {

@@ -5,12 +5,13 @@
 
 use std::fmt::Write;
 
+use super::Simulation;
+use super::loading::Loading;
+use super::scene::GranularScene;
 use crate::contact::restitution::damping_for_restitution;
 use crate::error::{Error, Result};
-use crate::loading::Loading;
 use crate::probe::{BOX_COLUMNS, FREE_COLUMNS};
 use crate::scene::{EffectKind, Scene};
-use crate::simulation::Simulation;
 use crate::state::{Bodies, BoxFace, Vec3, Walls};
 
 /// The lower and upper corners of the box of `walls` (the bodies' bounding box without one).
@@ -91,6 +92,7 @@ pub fn yade_text(bodies: &Bodies, walls: &Walls, title: &str) -> String {
 /// time step and the number of steps Fractum takes.
 pub struct RunPlan<'a> {
     pub scene: &'a Scene,
+    pub cfg: &'a GranularScene,
     pub bodies: &'a Bodies,
     pub walls: &'a Walls,
     pub loading: &'a Loading,
@@ -104,11 +106,12 @@ impl<'a> RunPlan<'a> {
     pub fn of(sim: &'a Simulation) -> Self {
         RunPlan {
             scene: &sim.scene,
-            bodies: &sim.bodies,
-            walls: &sim.walls,
-            loading: &sim.loading,
-            dt: sim.dt,
-            steps: sim.end_step,
+            cfg: &sim.model.cfg,
+            bodies: &sim.model.state.bodies,
+            walls: &sim.model.state.walls,
+            loading: &sim.model.state.loading,
+            dt: sim.clock.dt,
+            steps: sim.clock.end_step,
         }
     }
 
@@ -119,17 +122,17 @@ impl<'a> RunPlan<'a> {
     /// The dimensionless damping coefficient c of Fractum's contact law (0 without damping).
     fn damping_coefficient(&self) -> f64 {
         if self.has(EffectKind::Damping) {
-            damping_for_restitution(self.scene.material.restitution)
+            damping_for_restitution(self.cfg.material.restitution)
         } else {
             0.0
         }
     }
 
     fn wall_friction(&self) -> f64 {
-        self.scene
+        self.cfg
             .walls
             .friction
-            .unwrap_or(self.scene.material.friction)
+            .unwrap_or(self.cfg.material.friction)
     }
 
     /// Speed of the driven top wall (m/s, downwards) and the box height at the start.
@@ -177,7 +180,7 @@ fn check_exportable(plan: &RunPlan, code: &str) -> Result<()> {
 
 /// The contact-model arguments of `pair_coeff` / `fix wall/gran` for friction `mu`.
 fn lammps_model(plan: &RunPlan, mu: f64) -> String {
-    let m = &plan.scene.material;
+    let m = &plan.cfg.material;
     let c = plan.damping_coefficient();
     let damping = if c > 0.0 {
         "damping coeff_restitution"
@@ -193,7 +196,7 @@ fn lammps_model(plan: &RunPlan, mu: f64) -> String {
         "hertz/material {:e} {:.17e} {:e} {tangential} {damping} limit_damping",
         m.young,
         lammps_restitution(c),
-        m.poisson
+        m.poisson()
     )
 }
 
@@ -205,7 +208,7 @@ pub fn lammps_input(plan: &RunPlan, data_file: &str, series_file: &str) -> Resul
     check_exportable(plan, "LAMMPS")?;
     let scene = plan.scene;
     let every = scene.output.every.max(1);
-    let model = lammps_model(plan, scene.material.friction);
+    let model = lammps_model(plan, plan.cfg.material.friction);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -224,12 +227,13 @@ pub fn lammps_input(plan: &RunPlan, data_file: &str, series_file: &str) -> Resul
     let _ = writeln!(
         s,
         "# Fractum restitution {} -> damping coefficient c = {:.10} -> LAMMPS coeff_restitution {:.10}",
-        scene.material.restitution,
+        plan.cfg.material.restitution,
         plan.damping_coefficient(),
         lammps_restitution(plan.damping_coefficient())
     );
     let _ = writeln!(s, "pair_style      granular\npair_coeff      * * {model}");
-    let skin = scene
+    let skin = plan
+        .cfg
         .neighbor
         .skin
         .unwrap_or(0.4 * plan.bodies.min_radius());
@@ -376,7 +380,7 @@ pub fn lammps_input(plan: &RunPlan, data_file: &str, series_file: &str) -> Resul
 pub fn yade_script(plan: &RunPlan, packing_file: &str, series_file: &str) -> Result<String> {
     check_exportable(plan, "YADE")?;
     let scene = plan.scene;
-    let m = &scene.material;
+    let m = &plan.cfg.material;
     let every = scene.output.every.max(1);
     let fric = plan.has(EffectKind::Friction);
     let mu = if fric { m.friction } else { 0.0 };
@@ -412,7 +416,7 @@ vol = sum(4.0 / 3.0 * math.pi * O.bodies[i].shape.radius ** 3 for i in spheres)
         label = scene.source.label,
         name = scene.name,
         e = m.young,
-        nu = m.poisson,
+        nu = m.poisson(),
         rho = m.density,
         c = plan.damping_coefficient(),
         rest = m.restitution,
@@ -475,7 +479,8 @@ vol = sum(4.0 / 3.0 * math.pi * O.bodies[i].shape.radius ** 3 for i in spheres)
         );
         let _ = writeln!(s, "COLUMNS = {:?}", FREE_COLUMNS.join(","));
     }
-    let skin = scene
+    let skin = plan
+        .cfg
         .neighbor
         .skin
         .unwrap_or(0.4 * plan.bodies.min_radius());
@@ -527,4 +532,54 @@ mod tests {
         }
         assert!((lammps_restitution(damping_for_restitution(0.5)) - 0.43629).abs() < 1e-5);
     }
+}
+
+/// `fractum export lammps|yade`: the scene's sample and a peer-code script that runs it
+/// (`lammps`: packing.data and in.fractum; otherwise packing.txt and fractum_yade.py) in
+/// `dir`. Returns the line that says what was written.
+pub fn export(
+    scene: Scene,
+    lammps: bool,
+    dir: &std::path::Path,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<String> {
+    let cfg: GranularScene = scene.section()?;
+    let sample = super::sample::build(&scene, &cfg, progress)?;
+    let count = sample.bodies.len();
+    let sim = Simulation::from_sample(scene, sample, 1)?;
+    let plan = RunPlan::of(&sim);
+    let name = &sim.scene.name;
+    let (bodies, walls) = (&sim.model.state.bodies, &sim.model.state.walls);
+    let files = if lammps {
+        [
+            (
+                "packing.data",
+                lammps_data(bodies, walls, sim.model.cfg.material.density, name),
+            ),
+            (
+                "in.fractum",
+                lammps_input(&plan, "packing.data", "series_lammps.csv")?,
+            ),
+        ]
+    } else {
+        [
+            ("packing.txt", yade_text(bodies, walls, name)),
+            (
+                "fractum_yade.py",
+                yade_script(&plan, "packing.txt", "series_yade.csv")?,
+            ),
+        ]
+    };
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "create the folder", e))?;
+    for (file, text) in &files {
+        crate::output::write_atomic(&dir.join(file), text.as_bytes())?;
+    }
+    Ok(format!(
+        "{name}: wrote {} and {} in {} ({count} spheres, {} steps of {:.4e} s)",
+        files[0].0,
+        files[1].0,
+        dir.display(),
+        sim.clock.end_step,
+        sim.clock.dt
+    ))
 }

@@ -1,81 +1,177 @@
-//! Range checks of the `beam2d` model's keys, and which keys go with which model.
+//! The beam2d model's own scene tables (`material`, `sample`, `loading`, `neighbor`,
+//! `fragments`), typed and checked.
 
-use super::validate::{Range, check, require};
-use super::{EffectKind, IntegratorKind, LoadingKind, ModelKind, Outline, SampleKind, Scene};
-use crate::beam2d::BEAM2D_EFFECTS;
+use serde::Deserialize;
+
 use crate::error::Result;
+use crate::sample::lattice2d::Outline;
+use crate::scene::validate::{Range, check, require};
+use crate::scene::{EffectKind, IntegratorKind, NeighborSpec, Scene};
 
-fn is_beam2d_loading(kind: LoadingKind) -> bool {
-    matches!(
-        kind,
-        LoadingKind::ElasticModuli
-            | LoadingKind::ConfinedCompression
-            | LoadingKind::Explosion
-            | LoadingKind::Projectile
-    )
+/// The polygons' material, the beams and their breaking (Eq. 7-13), contact damping
+/// (Eq. 3-4). The polygons are rigid: no Poisson's ratio.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Young's modulus E (Pa) of the overlap repulsion, > 0.
+    pub young: f64,
+    /// Density ρ (kg/m³), > 0.
+    pub density: f64,
+    /// Coulomb friction coefficient μ, ≥ 0 (used by the `friction` effect).
+    #[serde(default)]
+    pub friction: f64,
+    /// Young's modulus E of the beams (Pa), > 0.
+    pub beam_young: Option<f64>,
+    /// Stretching threshold t_ε of the breaking rule (strain), > 0.
+    pub beam_strain_threshold: Option<f64>,
+    /// Bending threshold t_Θ of the breaking rule (rad), > 0.
+    pub beam_bending_threshold: Option<f64>,
+    /// Normal damping coefficient γ_N (1/s), ≥ 0.
+    pub normal_damping: Option<f64>,
+    /// Tangential (friction) coefficient γ_T (1/s), ≥ 0.
+    pub tangential_damping: Option<f64>,
 }
 
-/// Keys that belong to one model only: checked first, before their values.
-pub(super) fn validate_model(s: &Scene) -> Result<()> {
-    let model = s.model.kind.as_str();
-    let beam2d = s.model.kind == ModelKind::Beam2d;
-    let lattice = s.sample.kind == SampleKind::VectorizableRandomLattice;
-    if beam2d != lattice {
-        return Err(s.key_error(
-            "sample.kind",
-            format!(
-                "= \"{}\" does not go with model.kind = \"{model}\"; the 2D polygons of model.kind = \"beam2d\" come from sample.kind = \"vectorizable_random_lattice\" and from nothing else",
-                s.sample.kind.as_str()
-            ),
-        ));
-    }
-    if beam2d != is_beam2d_loading(s.loading.kind) {
-        let allowed = match s.model.kind {
-            ModelKind::Beam2d => "elastic_moduli, confined_compression, explosion, projectile",
-            ModelKind::Granular => "none, oedometer, platens",
-            ModelKind::Dlsm => "none, tension, free_vibration, brazilian, drop",
-        };
-        return Err(s.key_error(
-            "loading.kind",
-            format!(
-                "= \"{}\" is not a loading of model.kind = \"{model}\"; allowed values: {allowed}",
-                s.loading.kind.as_str()
-            ),
-        ));
-    }
-    for e in &s.effects {
-        let ok = if beam2d {
-            BEAM2D_EFFECTS.contains(e)
-        } else {
-            !matches!(e, EffectKind::Beams | EffectKind::BeamBreaking)
-        };
-        if !ok {
-            return Err(s.key_error(
-                "effects",
-                format!(
-                    "lists \"{}\", which model.kind = \"{model}\" does not have",
-                    e.as_str()
-                ),
-            ));
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SampleKind {
+    /// Voronoi polygons of one random point per square of a regular grid.
+    VectorizableRandomLattice,
+}
+
+/// The vectorizable random lattice.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SampleSpec {
+    pub kind: SampleKind,
+    /// Lattice spacing (m) of the grid of squares.
+    pub spacing: Option<f64>,
+    /// Largest distance (m) of a square's point from its centre, in [0, spacing].
+    pub disorder: Option<f64>,
+    /// The outline the polygons are cut to.
+    pub outline: Option<Outline>,
+    /// Grid squares [nx, ny] of a rectangle.
+    pub cells: Option<[usize; 2]>,
+    /// Diameter (m) of a disc.
+    pub diameter: Option<f64>,
+    /// Thickness (m) out of plane (default 1).
+    pub thickness: Option<f64>,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LoadingKind {
+    /// Uniaxial elongation, then compression from the same start, under plane stress with
+    /// free sides (Section 3.1).
+    ElasticModuli,
+    /// Strain-controlled compression between confined horizontal boundaries (Section 3.2).
+    ConfinedCompression,
+    /// The centre polygon explodes (Section 3.3.1).
+    Explosion,
+    /// One polygon at the lower middle is shot into the block (Section 3.3.2).
+    Projectile,
+}
+
+impl LoadingKind {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LoadingKind::ElasticModuli => "elastic_moduli",
+            LoadingKind::ConfinedCompression => "confined_compression",
+            LoadingKind::Explosion => "explosion",
+            LoadingKind::Projectile => "projectile",
         }
     }
-    if !beam2d && s.time.integrator == IntegratorKind::Gear5 {
-        return Err(s.key_error(
-            "time.integrator",
-            format!("= \"gear5\" is available for model.kind = \"beam2d\" only, not \"{model}\""),
-        ));
-    }
-    Ok(())
 }
 
-/// The beam2d model's own keys (for other models, nothing).
-pub(super) fn validate_keys(s: &Scene) -> Result<()> {
-    if s.model.kind != ModelKind::Beam2d {
-        return Ok(());
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LoadingSpec {
+    pub kind: LoadingKind,
+    /// Strain rate (1/s) of the driven layers, > 0.
+    pub strain_rate: Option<f64>,
+    /// Strain at which the moduli or compression test ends, in (0, 0.5).
+    pub end_strain: Option<f64>,
+    /// Time (s) over which the driven boundaries reach their final speed (uniform
+    /// acceleration).
+    pub ramp_time: Option<f64>,
+    /// Energy E0 (J) of the explosion.
+    pub energy: Option<f64>,
+    /// Speed (m/s) of the projectile polygon, > 0.
+    pub speed: Option<f64>,
+    /// The run stops after this many steps without a beam breaking (explosion, projectile).
+    pub quiet_steps: Option<u64>,
+    /// The longest an explosion or projectile run may last (s).
+    pub end_time: Option<f64>,
+}
+
+/// How fragment masses are binned and where the power law F(m) ~ m^-β is fitted.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct FragmentSpec {
+    /// The fit range [lo, hi] in mean polygon masses.
+    #[serde(default = "default_fit_range")]
+    pub fit_range: [f64; 2],
+    /// Logarithmic bins per decade of mass.
+    #[serde(default = "default_bins_per_decade")]
+    pub bins_per_decade: u32,
+}
+
+fn default_fit_range() -> [f64; 2] {
+    [2.0, 20.0]
+}
+
+fn default_bins_per_decade() -> u32 {
+    4
+}
+
+impl Default for FragmentSpec {
+    fn default() -> Self {
+        FragmentSpec {
+            fit_range: default_fit_range(),
+            bins_per_decade: default_bins_per_decade(),
+        }
     }
-    validate_beam2d_material(s)?;
-    validate_beam2d_loading(s)?;
-    let f = &s.fragments;
+}
+
+/// The beam2d model's tables of a scene.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Beam2dScene {
+    pub material: Material,
+    pub sample: SampleSpec,
+    pub loading: LoadingSpec,
+    #[serde(default)]
+    pub neighbor: NeighborSpec,
+    /// The fragment mass histogram and its power-law fit.
+    #[serde(default)]
+    pub fragments: FragmentSpec,
+}
+
+/// The effects of the beam2d model, in evaluation order.
+pub const EFFECTS: [EffectKind; 5] = [
+    EffectKind::Contact,
+    EffectKind::Damping,
+    EffectKind::Friction,
+    EffectKind::Beams,
+    EffectKind::BeamBreaking,
+];
+
+/// Range checks of a beam2d scene.
+pub fn validate(s: &Scene, b: &Beam2dScene) -> Result<()> {
+    s.check_model_keys(
+        &EFFECTS,
+        &[IntegratorKind::VelocityVerlet, IntegratorKind::Gear5],
+        &[],
+    )?;
+    s.requires_contact(EffectKind::Damping)?;
+    s.requires_contact(EffectKind::Friction)?;
+    validate_lattice(s, &b.sample)?;
+    validate_material(s, &b.material)?;
+    validate_loading(s, &b.loading, &b.sample)?;
+    if let Some(skin) = b.neighbor.skin {
+        check(s, "neighbor.skin", skin, Range::POSITIVE, "m")?;
+    }
+    let f = &b.fragments;
     let [lo, hi] = f.fit_range;
     check(
         s,
@@ -100,8 +196,10 @@ pub(super) fn validate_keys(s: &Scene) -> Result<()> {
     Ok(())
 }
 
-fn validate_beam2d_material(s: &Scene) -> Result<()> {
-    let m = &s.material;
+fn validate_material(s: &Scene, m: &Material) -> Result<()> {
+    check(s, "material.young", m.young, Range::POSITIVE, "Pa")?;
+    check(s, "material.density", m.density, Range::POSITIVE, "kg/m³")?;
+    check(s, "material.friction", m.friction, Range::NON_NEGATIVE, "")?;
     if s.has_effect(EffectKind::BeamBreaking) && !s.has_effect(EffectKind::Beams) {
         return Err(s.key_error(
             "effects",
@@ -163,14 +261,13 @@ fn validate_beam2d_material(s: &Scene) -> Result<()> {
     Ok(())
 }
 
-fn validate_beam2d_loading(s: &Scene) -> Result<()> {
-    let l = &s.loading;
+fn validate_loading(s: &Scene, l: &LoadingSpec, p: &SampleSpec) -> Result<()> {
     let kind = l.kind.as_str();
     let why = format!("for loading.kind = \"{kind}\"");
     let outline = require(
         s,
         "sample.outline",
-        s.sample.outline,
+        p.outline,
         "for sample.kind = \"vectorizable_random_lattice\"",
     )?;
     match l.kind {
@@ -220,22 +317,12 @@ fn validate_beam2d_loading(s: &Scene) -> Result<()> {
                 ));
             }
         }
-        LoadingKind::None
-        | LoadingKind::Oedometer
-        | LoadingKind::Platens
-        | LoadingKind::Tension
-        | LoadingKind::FreeVibration
-        | LoadingKind::Brazilian
-        | LoadingKind::Drop => {
-            unreachable!("checked by validate_model")
-        }
     }
     Ok(())
 }
 
 /// The vectorizable random lattice's keys.
-pub(super) fn validate_lattice(s: &Scene) -> Result<()> {
-    let p = &s.sample;
+fn validate_lattice(s: &Scene, p: &SampleSpec) -> Result<()> {
     let why = "for sample.kind = \"vectorizable_random_lattice\"";
     let spacing = require(s, "sample.spacing", p.spacing, why)?;
     check(s, "sample.spacing", spacing, Range::POSITIVE, "m")?;

@@ -2,6 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::scene::{DlsmScene, LoadingKind, SampleKind, SampleMethod};
 use crate::bond::dlsm::DlsmBonds;
 use crate::error::Result;
 use crate::sample::stream;
@@ -9,7 +10,7 @@ use crate::sample::voronoi::{
     Boundary, Domain, Fabric, Neighbour, elements, face_normal_fabric, noisy_grid_seeds,
     packing_seeds, tessellate,
 };
-use crate::scene::{LoadingKind, SampleKind, SampleMethod, Scene};
+use crate::scene::Scene;
 use crate::shape::polyhedron::Polyhedron;
 use crate::state::{Bodies, Vec3};
 
@@ -61,13 +62,13 @@ pub struct DlsmSample {
 }
 
 /// The domain of a Voronoi sample (validated keys).
-pub fn domain(scene: &Scene) -> Domain {
-    let p = &scene.sample;
+pub fn domain(cfg: &DlsmScene) -> Domain {
+    let p = &cfg.sample;
     match p.kind {
         SampleKind::VoronoiCylinder => {
             let (length, radius) = (p.length.expect("validated"), p.radius.expect("validated"));
             Domain::Cylinder {
-                length: length + clamp_grip(scene, length, radius),
+                length: length + clamp_grip(cfg, length, radius),
                 radius,
             }
         }
@@ -78,7 +79,7 @@ pub fn domain(scene: &Scene) -> Domain {
         SampleKind::VoronoiBall => Domain::Ball {
             radius: p.radius.expect("validated"),
         },
-        _ => {
+        SampleKind::VoronoiBox => {
             let size = match (p.box_size, p.length) {
                 (Some(b), _) => Vec3::from(b),
                 (None, l) => Vec3::repeat(l.expect("validated")),
@@ -95,18 +96,22 @@ pub fn domain(scene: &Scene) -> Domain {
 /// half an element inside: the cylinder is made this much longer (half the mean element
 /// size) and then shifted so that the held seeds sit on x = 0, where the clamped section of
 /// a bar of length `sample.length` is.
-fn clamp_grip(scene: &Scene, length: f64, radius: f64) -> f64 {
-    if scene.loading.kind != LoadingKind::FreeVibration {
+fn clamp_grip(cfg: &DlsmScene, length: f64, radius: f64) -> f64 {
+    if cfg.loading.kind != LoadingKind::FreeVibration {
         return 0.0;
     }
-    let n = scene.sample.elements.expect("validated") as f64;
+    let n = cfg.sample.elements.expect("validated") as f64;
     0.5 * (std::f64::consts::PI * radius * radius * length / n).cbrt()
 }
 
 /// Builds the sample of a dlsm scene.
-pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<DlsmSample> {
-    let p = &scene.sample;
-    let domain = domain(scene);
+pub fn build(
+    scene: &Scene,
+    cfg: &DlsmScene,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<DlsmSample> {
+    let p = &cfg.sample;
+    let domain = domain(cfg);
     let n = p.elements.expect("validated");
     let method = p.method.unwrap_or(SampleMethod::NoisyGrid);
     let mut rng = stream(scene.seed, STREAM_SEEDS);
@@ -139,7 +144,7 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<D
     let mut cells = tessellate(&seeds, &domain)
         .map_err(|m| scene.key_error("sample", format!("cannot be tessellated: {m}")))?;
     let mut seeds = seeds;
-    if scene.loading.kind == LoadingKind::FreeVibration {
+    if cfg.loading.kind == LoadingKind::FreeVibration {
         let held: Vec<f64> = cells
             .iter()
             .filter(|c| {
@@ -161,7 +166,7 @@ pub fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<D
             *p += shift;
         }
     }
-    let m = &scene.material;
+    let m = &cfg.material;
     let (bodies, shapes) = elements(&cells, m.density);
     let bonds = DlsmBonds::from_cells(&cells, &bodies, m.young, m.poisson);
     let mut boundary = Vec::new();

@@ -1,16 +1,13 @@
-//! Prescribed boundary motion.
-
-// beam2d: driven boundary layers, explosion and projectile.
-pub mod beam2d;
+//! Prescribed boundary motion of the granular model: walls and platens.
 
 use serde::{Deserialize, Serialize};
 
+use super::scene::{GranularScene, LoadingKind};
 use crate::error::Result;
 use crate::probe::Series;
-use crate::scene::{LoadingKind, Scene};
+use crate::probe::fit::least_squares_slope;
+use crate::scene::Scene;
 use crate::state::{BoxFace, Walls};
-
-pub mod dlsm;
 
 /// How the boundaries move during the run.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -35,8 +32,8 @@ pub enum Loading {
 }
 
 impl Loading {
-    pub fn from_scene(scene: &Scene, walls: &Walls) -> Result<Loading> {
-        let l = &scene.loading;
+    pub fn from_scene(scene: &Scene, cfg: &GranularScene, walls: &Walls) -> Result<Loading> {
+        let l = &cfg.loading;
         Ok(match l.kind {
             LoadingKind::None => Loading::None {
                 end_time: l.end_time.expect("validated"),
@@ -65,27 +62,6 @@ impl Loading {
                     speed: l.speed.expect("validated"),
                     end_displacement: l.end_displacement.expect("validated"),
                 }
-            }
-            LoadingKind::ElasticModuli
-            | LoadingKind::ConfinedCompression
-            | LoadingKind::Explosion
-            | LoadingKind::Projectile => {
-                return Err(scene.key_error(
-                    "loading.kind",
-                    format!(
-                        "= \"{}\" is a loading of model.kind = \"beam2d\"",
-                        l.kind.as_str()
-                    ),
-                ));
-            }
-            LoadingKind::Tension
-            | LoadingKind::FreeVibration
-            | LoadingKind::Brazilian
-            | LoadingKind::Drop => {
-                return Err(scene.key_error(
-                    "loading.kind",
-                    "is a dlsm loading, run by model.kind = \"dlsm\"",
-                ));
             }
         })
     }
@@ -271,29 +247,6 @@ pub fn force_peaks(f: &[f64], drop: f64) -> Vec<usize> {
     peaks
 }
 
-/// Slope of the least-squares line through `pts`.
-pub fn least_squares_slope(pts: &[(f64, f64)]) -> f64 {
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
-    let sxx: f64 = pts.iter().map(|p| (p.0 - mx) * (p.0 - mx)).sum();
-    sxy / sxx
-}
-
-/// The coefficient of determination R² of the least-squares line of `slope` through `pts`.
-pub fn r_squared(pts: &[(f64, f64)], slope: f64) -> f64 {
-    let n = pts.len() as f64;
-    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
-    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
-    let ss_res: f64 = pts
-        .iter()
-        .map(|p| (p.1 - my - slope * (p.0 - mx)).powi(2))
-        .sum();
-    let ss_tot: f64 = pts.iter().map(|p| (p.1 - my).powi(2)).sum();
-    1.0 - ss_res / ss_tot
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -305,11 +258,5 @@ mod tests {
         assert_eq!(force_peaks(&f, 0.7), vec![3, 7]);
         // A wobble that does not drop below 70% is no peak.
         assert_eq!(force_peaks(&[1.0, 2.0, 1.5, 3.0], 0.7), Vec::<usize>::new());
-    }
-
-    #[test]
-    fn slope_of_a_line() {
-        let pts: Vec<(f64, f64)> = (0..10).map(|i| (i as f64, 3.0 * i as f64 + 1.0)).collect();
-        assert!((least_squares_slope(&pts) - 3.0).abs() < 1e-12);
     }
 }

@@ -9,10 +9,11 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::scene::{Beam2dScene, LoadingKind};
 use crate::error::Result;
 use crate::probe::Series;
 use crate::sample::lattice2d::{PolygonSample, SIDE_BOTTOM, SIDE_LEFT, SIDE_RIGHT, SIDE_TOP};
-use crate::scene::{LoadingKind, Scene};
+use crate::scene::Scene;
 use crate::shape::polygon::Vec2;
 use crate::state::polygons::Polygons;
 
@@ -153,13 +154,17 @@ pub enum Beam2dLoading {
 impl Beam2dLoading {
     /// Sets the sample up for the scene's loading: removes the explosive, gives initial
     /// velocities, fixes the driven degrees of freedom (zero inverse mass).
-    pub fn prepare(scene: &Scene, sample: &mut PolygonSample) -> Result<Beam2dLoading> {
-        let l = &scene.loading;
-        let thickness = scene.sample.thickness.unwrap_or(1.0);
+    pub fn prepare(
+        scene: &Scene,
+        cfg: &Beam2dScene,
+        sample: &mut PolygonSample,
+    ) -> Result<Beam2dLoading> {
+        let l = &cfg.loading;
+        let thickness = cfg.sample.thickness.unwrap_or(1.0);
         Ok(match l.kind {
             LoadingKind::ElasticModuli | LoadingKind::ConfinedCompression => {
                 let confined = l.kind == LoadingKind::ConfinedCompression;
-                let driven = driven(scene, sample, confined, thickness)?;
+                let driven = driven(scene, cfg, sample, confined, thickness)?;
                 let p = &mut sample.polygons;
                 for (k, _) in driven.layers() {
                     p.inv_m[k][1] = 0.0;
@@ -174,7 +179,7 @@ impl Beam2dLoading {
                     Beam2dLoading::ElasticModuli(driven)
                 }
             }
-            LoadingKind::Explosion => explode(scene, sample)?,
+            LoadingKind::Explosion => explode(scene, cfg, sample)?,
             LoadingKind::Projectile => {
                 let p = &sample.polygons;
                 let middle = 0.5 * sample.info.size[0];
@@ -194,15 +199,6 @@ impl Beam2dLoading {
                     end_time: l.end_time.expect("validated"),
                     polygon,
                 }
-            }
-            LoadingKind::None
-            | LoadingKind::Oedometer
-            | LoadingKind::Platens
-            | LoadingKind::Tension
-            | LoadingKind::FreeVibration
-            | LoadingKind::Brazilian
-            | LoadingKind::Drop => {
-                unreachable!("validated: granular and dlsm loadings are not beam2d's")
             }
         })
     }
@@ -225,7 +221,7 @@ impl Beam2dLoading {
 
     /// The step at which the run ends at the latest.
     pub fn end_step(&self, dt: f64) -> u64 {
-        let steps = |t: f64| crate::simulation::end_step(t, dt);
+        let steps = |t: f64| crate::run::end_step(t, dt);
         match self {
             Beam2dLoading::ElasticModuli(d) => 2 * steps(d.phase_duration()),
             Beam2dLoading::ConfinedCompression(d) => steps(d.phase_duration()),
@@ -316,7 +312,7 @@ impl Beam2dLoading {
                 .filter(|(e, _)| **e >= lo && **e <= hi)
                 .map(|(e, s)| (*e, *s))
                 .collect();
-            (pts.len() >= 3).then(|| super::least_squares_slope(&pts))
+            (pts.len() >= 3).then(|| crate::probe::fit::least_squares_slope(&pts))
         };
         match self {
             Beam2dLoading::ElasticModuli(_) => {
@@ -353,8 +349,14 @@ impl Beam2dLoading {
 
 /// The driven layers of a rectangle: polygons touching its bottom and top sides, and the
 /// free sides' polygons for the lateral strain.
-fn driven(scene: &Scene, sample: &PolygonSample, confined: bool, thickness: f64) -> Result<Driven> {
-    let l = &scene.loading;
+fn driven(
+    scene: &Scene,
+    cfg: &Beam2dScene,
+    sample: &PolygonSample,
+    confined: bool,
+    thickness: f64,
+) -> Result<Driven> {
+    let l = &cfg.loading;
     let with = |bit: u8| -> Vec<u32> {
         (0..sample.polygons.len())
             .filter(|&k| sample.outline[k] & bit != 0)
@@ -404,8 +406,8 @@ fn driven(scene: &Scene, sample: &PolygonSample, confined: bool, thickness: f64)
 }
 
 /// The explosion's initial velocities; removes the explosive polygon.
-fn explode(scene: &Scene, sample: &mut PolygonSample) -> Result<Beam2dLoading> {
-    let l = &scene.loading;
+fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Result<Beam2dLoading> {
+    let l = &cfg.loading;
     let energy = l.energy.expect("validated");
     let p = &sample.polygons;
     let centre = match sample.info.outline.as_str() {

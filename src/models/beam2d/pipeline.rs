@@ -14,6 +14,7 @@
 
 use rayon::prelude::*;
 
+use super::scene::Beam2dScene;
 use crate::bond::beam2d::{Beams, BreakingRule};
 use crate::contact::neighbor::PairList;
 use crate::contact::overlap_area_2d::{
@@ -71,9 +72,15 @@ pub struct PolygonPipeline {
 
 impl PolygonPipeline {
     /// Builds exactly the effects the scene lists. `skin` is the neighbour list's skin (m).
-    pub fn build(scene: &Scene, polys: &Polygons, beams: &Beams, skin: f64) -> Self {
-        let m = &scene.material;
-        let thickness = scene.sample.thickness.unwrap_or(1.0);
+    pub fn build(
+        scene: &Scene,
+        cfg: &Beam2dScene,
+        polys: &Polygons,
+        beams: &Beams,
+        skin: f64,
+    ) -> Self {
+        let m = &cfg.material;
+        let thickness = cfg.sample.thickness.unwrap_or(1.0);
         let contact = scene.has_effect(EffectKind::Contact).then(|| {
             let law = OverlapLaw {
                 young_thickness: m.young * thickness,

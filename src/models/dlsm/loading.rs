@@ -10,10 +10,10 @@ use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
-use super::least_squares_slope;
+use super::scene::VibrationMode;
 use crate::probe::Series;
+use crate::probe::fit::least_squares_slope;
 use crate::probe::spectrum::dominant_frequency;
-use crate::scene::VibrationMode;
 use crate::state::{Bodies, Forces, Vec3};
 
 /// 0 → 1 over `ramp` seconds with zero slope at both ends (1 at once without a ramp): the

@@ -4,11 +4,12 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use super::Simulation;
+use super::scene::GranularScene;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
-use crate::sample::{self, Sample};
+use crate::sample::Sample;
 use crate::scene::Scene;
-use crate::simulation::Simulation;
 
 /// The material and contact model of the benchmark (that of scenes/oedometer_spheres.toml):
 /// r = 0.3 mm ± 10%, E = 60 GPa, ν = 0.17, μ = 0.5, e = 0.5, Hertz–Mindlin with damping.
@@ -73,13 +74,15 @@ pub fn dense_packing(
     let scene = Scene::from_toml(&scene_text(bodies), "bench", cache, &[])?;
     if file.exists() {
         let mut s = scene.clone();
-        s.sample.kind = crate::scene::SampleKind::Text;
-        s.sample.file = Some(format!("dense_{bodies}.txt"));
-        s.sample.box_size = None;
-        s.sample.pressure = None;
-        return sample::build(&s, progress);
+        if let Some(toml::Value::Table(t)) = s.tables.get_mut("sample") {
+            t.insert("kind".into(), "text".into());
+            t.insert("file".into(), format!("dense_{bodies}.txt").into());
+            t.remove("box");
+            t.remove("pressure");
+        }
+        return super::sample::from_scene(&s, progress);
     }
-    let made = sample::build(&scene, progress)?;
+    let made = super::sample::from_scene(&scene, progress)?;
     std::fs::create_dir_all(cache).map_err(|e| Error::io(cache, "create the folder", e))?;
     let walls = &made.walls;
     let lo = walls.walls[0].point.x;
@@ -177,62 +180,6 @@ pub fn table(cases: &[BenchCase]) -> String {
     s
 }
 
-// beam2d: polygon-steps per second on whole runs of its scenes, and what its time step costs.
-
-/// One timed run of a beam2d scene.
-#[derive(Debug, Clone)]
-pub struct PolygonCase {
-    pub scene: String,
-    pub polygons: usize,
-    pub threads: usize,
-    pub steps: u64,
-    pub seconds: f64,
-}
-
-impl PolygonCase {
-    pub fn polygon_steps_per_second(&self) -> f64 {
-        self.polygons as f64 * self.steps as f64 / self.seconds
-    }
-}
-
-/// Runs the beam2d scene `path` (with `overrides`) to its end on `threads` threads and times
-/// the stepping (not the lattice construction).
-pub fn time_beam2d_scene(path: &Path, overrides: &[String], threads: usize) -> Result<PolygonCase> {
-    let scene = Scene::load(path, overrides)?;
-    let name = scene.name.clone();
-    let mut run = crate::beam2d::Beam2dRun::new(scene, threads, &mut |_| {})?;
-    let start = Instant::now();
-    while !run.finished() {
-        run.advance(1000)?;
-    }
-    Ok(PolygonCase {
-        scene: name,
-        polygons: run.polygons.len(),
-        threads,
-        steps: run.step,
-        seconds: start.elapsed().as_secs_f64(),
-    })
-}
-
-/// The beam2d results as a Markdown table.
-pub fn polygon_table(cases: &[PolygonCase]) -> String {
-    let mut s = String::from(
-        "| scene | polygons | threads | steps | wall s | polygon-steps/s |\n|---|---:|---:|---:|---:|---:|\n",
-    );
-    for c in cases {
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3e} |\n",
-            c.scene,
-            c.polygons,
-            c.threads,
-            c.steps,
-            c.seconds,
-            c.polygon_steps_per_second()
-        ));
-    }
-    s
-}
-
 // granular fracture: poly-ellipsoid contact throughput and the SHPB scene's cost per strain.
 
 /// A dense packing of `bodies` poly-ellipsoids with axis ratios from 1 to 2 (each semi-axis
@@ -248,7 +195,7 @@ pub fn dense_poly_ellipsoids(
         "compaction_friction = 0.1\nshape = \"poly_ellipsoid\"\naspect_ratio_max = 2.0\n",
     );
     let scene = Scene::from_toml(&text, "bench", Path::new("."), &[])?;
-    let sample = sample::build(&scene, progress)?;
+    let sample = super::sample::from_scene(&scene, progress)?;
     Ok((scene, sample))
 }
 
@@ -269,7 +216,8 @@ pub fn time_poly_ellipsoid_case(
 /// bodies at the end.
 pub fn time_shpb(path: &Path, overrides: &[String], threads: usize) -> Result<(f64, usize, usize)> {
     let scene = Scene::load(path, overrides)?;
-    let end_strain = scene.loading.end_strain.unwrap_or(0.0);
+    let cfg: GranularScene = scene.section()?;
+    let end_strain = cfg.loading.end_strain.unwrap_or(0.0);
     let mut sim = Simulation::new(scene, threads, &mut |_| {})?;
     let grains = sim.bodies.len();
     let start = Instant::now();

@@ -1,0 +1,117 @@
+//! `fractum explain` for a beam2d scene.
+
+use std::fmt::Write as _;
+
+use super::pipeline::PolygonPipeline;
+use super::scene::{Beam2dScene, EFFECTS, LoadingKind};
+use crate::bond::beam2d::Beams;
+use crate::error::Result;
+use crate::explain::write_pipeline;
+use crate::sample::lattice2d::Outline;
+use crate::scene::{DtSpec, IntegratorKind, Scene};
+use crate::state::polygons::Polygons;
+
+/// `fractum explain` for a beam2d scene: what it builds, without building the lattice.
+pub fn explain(scene: &Scene) -> Result<String> {
+    let cfg: Beam2dScene = scene.section()?;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "scene {} (\"{}\"), seed {}",
+        scene.source.label, scene.name, scene.seed
+    );
+    let _ = writeln!(
+        s,
+        "model: beam2d, rigid Voronoi polygons with overlap repulsion and breakable beams (2D, plane stress)"
+    );
+    let p = &cfg.sample;
+    let spacing = p.spacing.unwrap_or_default();
+    let outline = match p.outline {
+        Some(Outline::Rectangle) => {
+            let c = p.cells.unwrap_or_default();
+            format!(
+                "a {} x {} m rectangle ({} x {} squares)",
+                c[0] as f64 * spacing,
+                c[1] as f64 * spacing,
+                c[0],
+                c[1]
+            )
+        }
+        Some(Outline::Disc) => format!(
+            "a disc of diameter {} m (about {:.0} polygons)",
+            p.diameter.unwrap_or_default(),
+            std::f64::consts::PI / 4.0 * (p.diameter.unwrap_or_default() / spacing).powi(2)
+        ),
+        None => String::new(),
+    };
+    let _ = writeln!(
+        s,
+        "sample: vectorizable random lattice, spacing {spacing:e} m, disorder {:e} m, cut to {outline}, thickness {:e} m",
+        p.disorder.unwrap_or_default(),
+        p.thickness.unwrap_or(1.0)
+    );
+    let pipeline =
+        PolygonPipeline::build(scene, &cfg, &Polygons::default(), &Beams::default(), 0.0);
+    write_pipeline(
+        &mut s,
+        scene,
+        &pipeline.describe(),
+        &EFFECTS,
+        "polygons move freely",
+    );
+    let l = &cfg.loading;
+    let loading = match l.kind {
+        LoadingKind::ElasticModuli => format!(
+            "elastic moduli: top and bottom layers pulled apart at strain rate {} 1/s (ramp {} s) to strain {}, then compressed from the start to -{}",
+            l.strain_rate.unwrap_or_default(),
+            l.ramp_time.unwrap_or(0.0),
+            l.end_strain.unwrap_or_default(),
+            l.end_strain.unwrap_or_default()
+        ),
+        LoadingKind::ConfinedCompression => format!(
+            "confined compression at strain rate {} 1/s (ramp {} s) to strain -{}; layers' x and rotation fixed",
+            l.strain_rate.unwrap_or_default(),
+            l.ramp_time.unwrap_or(0.0),
+            l.end_strain.unwrap_or_default()
+        ),
+        LoadingKind::Explosion => format!(
+            "explosion of the centre polygon, energy {:e} J; stops after {} steps without a break or at {:e} s",
+            l.energy.unwrap_or_default(),
+            l.quiet_steps.unwrap_or(300),
+            l.end_time.unwrap_or_default()
+        ),
+        LoadingKind::Projectile => format!(
+            "projectile: the polygon at the lower middle starts at {} m/s upwards; stops after {} steps without a break or at {:e} s",
+            l.speed.unwrap_or_default(),
+            l.quiet_steps.unwrap_or(300),
+            l.end_time.unwrap_or_default()
+        ),
+    };
+    let _ = writeln!(s, "loading: {loading}");
+    let dt = match scene.time.dt {
+        DtSpec::Auto => format!(
+            "auto = {} x the estimated stability limit 2/omega of the stiffest polygon",
+            scene.time.safety
+        ),
+        DtSpec::Seconds(v) => format!("{v:e} s"),
+    };
+    let integrator = match scene.time.integrator {
+        IntegratorKind::Gear5 => "Gear fifth-order predictor-corrector",
+        IntegratorKind::VelocityVerlet | IntegratorKind::TchamwaWielgosz => "velocity Verlet",
+    };
+    let _ = writeln!(s, "integrator: {integrator}, dt {dt}");
+    let vtk = if scene.output.vtk > 0 {
+        format!(
+            "VTK snapshot (polygons, beams, broken_beams) every {} steps",
+            scene.output.vtk
+        )
+    } else {
+        "no VTK".to_string()
+    };
+    let _ = writeln!(
+        s,
+        "outputs: series.csv row every {} steps, {vtk}, summary.json, fragments.csv and fragment_histogram.csv at the end",
+        scene.output.every
+    );
+    Ok(s)
+}

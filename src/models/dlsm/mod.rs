@@ -1,0 +1,714 @@
+//! The `dlsm` model's run: Voronoi elements joined by the distinct lattice spring model
+//! (dlsm-voronoi-brittle-elastic.txt).
+//!
+//! ```text
+//! loading.prescribe        prescribed velocity components for the step
+//! kick_drift               Tchamwa–Wielgosz first stage (Eq. 37–38)
+//! bonds.evaluate           cohesive forces and moments (Eq. 1–34), breaking (Eq. 36)
+//! effects                  broken contacts (fracture), ground (contact, friction), gravity
+//! loading.constrain        reactions out of the prescribed components
+//! kick                     second stage
+//! every output.every steps: check finite, a row of series.csv, stop after failure
+//! ```
+//!
+//! Only the effects the scene lists are built: without `fracture` no contact can break and
+//! no polyhedron contact is looked for; without `contact` there is no ground.
+
+pub mod bench;
+mod explain;
+pub mod loading;
+pub mod sample;
+pub mod scene;
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+
+use crate::bond::dlsm::DlsmBonds;
+use crate::contact::polyhedron::{BrokenContacts, GroundContact};
+use crate::error::{Error, Result};
+use crate::integrate::TchamwaWielgosz;
+use crate::output::vtk;
+use crate::run::{Built, Clock, Model, RunInfo, Runner, end_step};
+use crate::sample::voronoi::{BOX_FACES, Boundary, Domain};
+use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
+use crate::shape::polyhedron::Polyhedron;
+use crate::state::{Bodies, Forces, Vec3};
+use loading::{Brazilian, DlsmLoading, Drop, FreeVibration, RowInputs, Tension};
+use sample::{DlsmSample, DlsmSampleInfo};
+use scene::{DlsmScene, LoadingKind, VibrationMode};
+
+pub use explain::explain;
+
+/// A dlsm run: the generic runner over the dlsm model.
+pub type DlsmRun = Runner<Dlsm>;
+
+/// φ of the Tchamwa–Wielgosz scheme when the scene does not give one. The paper uses
+/// 1 ≤ φ ≤ 1.3; the lattice's flutter modes need about 2 at a third of the critical step
+/// (docs/validation.md).
+pub const DEFAULT_PHI: f64 = 2.0;
+/// Default ramp of prescribed speeds, as a fraction of the loading time.
+const DEFAULT_RAMP: f64 = 0.1;
+/// Default `stop_fraction` with fracture.
+const DEFAULT_STOP: f64 = 0.2;
+
+/// Where and when the first contact broke.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+pub struct FirstBreak {
+    pub step: u64,
+    pub contact: usize,
+    /// Midpoint of the two seeds (m).
+    pub position: Vec3,
+    /// Time of the step it broke in (s).
+    pub time: f64,
+}
+
+/// The dlsm model: what its scene builds (rebuilt on restore) and the persistent state.
+pub struct Dlsm {
+    pub cfg: DlsmScene,
+    pub bonds: DlsmBonds,
+    pub shapes: Vec<Polyhedron>,
+    pub domain: Domain,
+    /// Undeformed centroids.
+    pub reference: Vec<Vec3>,
+    pub sample: DlsmSampleInfo,
+    pub integrator: TchamwaWielgosz,
+    /// `fracture`: the tensile strength of the cohesive contacts.
+    pub tensile_strength: Option<f64>,
+    /// `gravity`.
+    pub gravity: Option<Vec3>,
+    /// Eq. 39 without its factor (s), and the rotational counterpart.
+    pub dt_critical: f64,
+    pub dt_rotational: f64,
+    pub state: DlsmState,
+}
+
+/// What a checkpoint keeps of a dlsm run; the sample is rebuilt from the scene.
+#[derive(Clone, Serialize, Deserialize)]
+pub struct DlsmState {
+    pub bodies: Bodies,
+    /// Forces and torques of the last evaluation.
+    pub forces: Forces,
+    /// Broken contacts in the order they broke, with the step and the midpoint of the two
+    /// seeds at breaking.
+    pub broken_order: Vec<u32>,
+    pub break_log: Vec<(u64, Vec3)>,
+    pub first_break: Option<FirstBreak>,
+    /// `fracture`: the contacts broken bonds leave.
+    pub broken: Option<BrokenContacts>,
+    /// `contact` (with `friction`): the ground.
+    pub ground: Option<GroundContact>,
+    pub loading: DlsmLoading,
+    /// True once the loading has found the specimen failed.
+    pub stopped: bool,
+}
+
+impl std::ops::Deref for Dlsm {
+    type Target = DlsmState;
+    fn deref(&self) -> &DlsmState {
+        &self.state
+    }
+}
+
+impl std::ops::DerefMut for Dlsm {
+    fn deref_mut(&mut self) -> &mut DlsmState {
+        &mut self.state
+    }
+}
+
+impl Dlsm {
+    /// The model on a freshly built sample, at t = 0 with nothing broken, and its step.
+    fn assemble(scene: &Scene, cfg: DlsmScene, s: DlsmSample) -> Result<(Self, f64, Vec<String>)> {
+        let DlsmSample {
+            domain,
+            bodies,
+            shapes,
+            seeds,
+            bonds,
+            boundary: _,
+            info,
+        } = &s;
+        let m = &cfg.material;
+        let loading = build_loading(scene, &cfg, &s)?;
+        let tensile_strength = if scene.has_effect(EffectKind::Fracture) {
+            m.tensile_strength
+        } else {
+            None
+        };
+        let broken = tensile_strength.map(|_| BrokenContacts::new(m.friction, m.poisson));
+        let ground = match (
+            &loading,
+            m.contact_stiffness,
+            scene.has_effect(EffectKind::Contact),
+        ) {
+            (DlsmLoading::Drop(d), Some(k), true) => Some(GroundContact::new(
+                d.ground_point,
+                d.ground_normal,
+                k,
+                if scene.has_effect(EffectKind::Friction) {
+                    m.friction
+                } else {
+                    0.0
+                },
+                bodies.len(),
+            )),
+            _ => None,
+        };
+        let gravity = scene
+            .has_effect(EffectKind::Gravity)
+            .then(|| Vec3::from(scene.gravity.acceleration));
+        let dt_critical = bonds.critical_time_step(&bodies.mass);
+        let dt_rotational = rotational_time_step(bodies, bonds);
+        // Eq. 39 bounds the translational springs; the rotational ones (K S, Eq. 31) are
+        // stiffer for their inertia, so their counterpart bounds the step too.
+        let mut dt_limit = dt_critical.min(dt_rotational);
+        if let Some(g) = &ground {
+            let lightest = bodies.mass.iter().copied().fold(f64::INFINITY, f64::min);
+            dt_limit = dt_limit.min((lightest / g.stiffness).sqrt());
+        }
+        let dt = match scene.time.dt {
+            DtSpec::Auto => scene.time.safety * dt_limit,
+            DtSpec::Seconds(v) => v,
+        };
+        let phi = match scene.time.integrator {
+            IntegratorKind::TchamwaWielgosz => scene.time.phi.unwrap_or(DEFAULT_PHI),
+            _ => 0.5,
+        };
+        let mut warnings = Vec::new();
+        if !dt_critical.is_finite() {
+            warnings.push("the sample has no cohesive contact".to_string());
+        }
+        if phi < 1.5 {
+            warnings.push(format!(
+                "phi = {phi}: the lattice has slowly growing (flutter) modes that phi of about 2 (time.integrator = \"tchamwa_wielgosz\") damps at a third of the critical step; runs of more than a few thousand steps may diverge"
+            ));
+        }
+        let mut bodies = bodies.clone();
+        let reference = bodies.pos.clone();
+        if let DlsmLoading::FreeVibration(v) = &loading {
+            for (p, seed) in bodies.pos.iter_mut().zip(seeds) {
+                *p += initial_displacement(v, seed);
+            }
+        }
+        if let DlsmLoading::Drop(_) = &loading {
+            let v0 = Vec3::from(cfg.loading.initial_velocity.unwrap_or([0.0; 3]));
+            bodies.vel.iter_mut().for_each(|v| *v = v0);
+        }
+        let model = Dlsm {
+            bonds: bonds.clone(),
+            shapes: shapes.clone(),
+            domain: *domain,
+            reference,
+            sample: info.clone(),
+            integrator: TchamwaWielgosz::new(phi),
+            tensile_strength,
+            gravity,
+            dt_critical,
+            dt_rotational,
+            cfg,
+            state: DlsmState {
+                forces: Forces::new(bodies.len()),
+                bodies,
+                broken_order: Vec::new(),
+                break_log: Vec::new(),
+                first_break: None,
+                broken,
+                ground,
+                loading,
+                stopped: false,
+            },
+        };
+        Ok((model, dt, warnings))
+    }
+
+    /// Forces and torques at the current positions: bonds, effects, reactions. `clock` is
+    /// where the run is (breaks are logged at its step).
+    fn evaluate_forces(&mut self, clock: &Clock) {
+        let strength = self.tensile_strength;
+        let st = &mut self.state;
+        let broke = self.bonds.evaluate(&st.bodies, &mut st.forces, strength);
+        if !broke.is_empty() {
+            self.record_breaks(clock, &broke);
+        }
+        let st = &mut self.state;
+        if let Some(b) = &mut st.broken {
+            b.accumulate(&st.bodies, &self.shapes, &mut st.forces, clock.dt);
+        }
+        if let Some(g) = &mut st.ground {
+            g.accumulate(&st.bodies, &self.shapes, &mut st.forces, clock.dt);
+        }
+        if let Some(g) = self.gravity {
+            for (f, &m) in st.forces.force.iter_mut().zip(&st.bodies.mass) {
+                *f += g * m;
+            }
+        }
+        st.loading.constrain(&mut st.forces);
+    }
+
+    fn record_breaks(&mut self, clock: &Clock, broke: &[usize]) {
+        let st = &mut self.state;
+        let mid = |c: usize| {
+            let [i, j] = self.bonds.pair[c];
+            0.5 * (st.bodies.pos[i as usize] + st.bodies.pos[j as usize])
+        };
+        if st.first_break.is_none() {
+            st.first_break = Some(FirstBreak {
+                step: clock.step,
+                contact: broke[0],
+                position: mid(broke[0]),
+                time: clock.time,
+            });
+        }
+        for &c in broke {
+            st.broken_order.push(c as u32);
+            st.break_log.push((clock.step, mid(c)));
+            if let Some(b) = &mut st.broken {
+                let k = self.bonds.young * self.bonds.area[c] / self.bonds.length0[c];
+                b.add(self.bonds.pair[c], k);
+            }
+        }
+    }
+
+    /// The model's summary keys (after those every model shares).
+    fn summary_keys(&self, run: &RunInfo, m: &mut Map<String, Value>) {
+        let st = &self.state;
+        m.insert("elements".into(), st.bodies.len().into());
+        m.insert(
+            "sample".into(),
+            serde_json::to_value(&self.sample).expect("sample info serialises"),
+        );
+        m.insert("contacts".into(), self.bonds.contacts().into());
+        m.insert("broken_contacts".into(), st.broken_order.len().into());
+        m.insert("dt_critical".into(), self.dt_critical.into());
+        m.insert("dt_rotational".into(), self.dt_rotational.into());
+        m.insert("phi".into(), self.integrator.phi.into());
+        m.insert("stopped_after_failure".into(), st.stopped.into());
+        m.insert(
+            "kinetic_energy_final".into(),
+            st.bodies.kinetic_energy().into(),
+        );
+        let dt_row = run.scene.output.every as f64 * run.clock.dt;
+        let mut series = run.series.clone();
+        if matches!(st.loading, DlsmLoading::FreeVibration(_)) {
+            // The spectrum needs evenly spaced rows: drop a last row off the grid.
+            let off = |r: &Vec<f64>| {
+                let k = r[0] / dt_row;
+                (k - k.round()).abs() > 1e-6
+            };
+            if series.rows.last().is_some_and(off) {
+                series.rows.pop();
+            }
+        }
+        st.loading.summarize(&series, dt_row, m);
+        if let Some(fb) = &st.first_break {
+            m.insert("first_break_step".into(), fb.step.into());
+            m.insert("first_break_time".into(), fb.time.into());
+            m.insert(
+                "first_break_position".into(),
+                serde_json::json!([fb.position.x, fb.position.y, fb.position.z]),
+            );
+            if let Domain::Disc { diameter, .. } = self.domain {
+                let offset = |p: &Vec3| p.x.hypot(p.y) / diameter;
+                m.insert("crack_start_offset".into(), offset(&fb.position).into());
+                // The macroscopic crack: the first contact to break once the load is within
+                // 5% of its peak (isolated breaks under the loading arcs come earlier).
+                if let Some(force) = run.series.column("force") {
+                    let peak = force.iter().copied().fold(0.0, f64::max);
+                    let row_step = |k: usize| (run.series.rows[k][0] / run.clock.dt).round() as u64;
+                    if let Some(k) = force.iter().position(|&f| f >= 0.95 * peak) {
+                        let from = if k > 0 { row_step(k - 1) } else { 0 };
+                        if let Some((_, p)) = st.break_log.iter().find(|(s, _)| *s >= from) {
+                            m.insert("main_crack_start_offset".into(), offset(p).into());
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    /// The elements as a polyhedral mesh for ParaView.
+    pub fn elements_vtu(&self) -> String {
+        vtk::polyhedra_vtu(
+            &self.state.bodies,
+            &self.shapes,
+            &self.state.forces,
+            &self.reference,
+        )
+    }
+}
+
+impl Model for Dlsm {
+    const KIND: &'static str = "dlsm";
+    const BODY: &'static str = "element";
+
+    fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
+        let cfg: DlsmScene = scene.section()?;
+        let s = sample::build(scene, &cfg, progress)?;
+        let (mut model, dt, warnings) = Dlsm::assemble(scene, cfg, s)?;
+        let columns = model.state.loading.columns();
+        let end = end_step(model.state.loading.end_time(), dt);
+        let start = Clock {
+            time: 0.0,
+            step: 0,
+            dt,
+            end_step: end,
+        };
+        model.state.loading.prescribe(&mut model.state.bodies, 0.0);
+        model.evaluate_forces(&start);
+        Ok(Built {
+            model,
+            dt,
+            end_step: end,
+            columns,
+            warnings,
+        })
+    }
+
+    fn save(&self) -> Vec<u8> {
+        postcard::to_stdvec(&self.state).expect("the dlsm state serialises")
+    }
+
+    fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self> {
+        let state: DlsmState = postcard::from_bytes(bytes)
+            .map_err(|e| Error::run(format!("the checkpoint's dlsm state is damaged ({e})")))?;
+        let cfg: DlsmScene = scene.section()?;
+        let s = sample::build(scene, &cfg, &mut |_| {})?;
+        let (mut model, _, _) = Dlsm::assemble(scene, cfg, s)?;
+        if state.bodies.len() != model.state.bodies.len() {
+            return Err(Error::run(
+                "the checkpoint's elements do not match the sample its scene builds",
+            ));
+        }
+        let ids: Vec<usize> = state.broken_order.iter().map(|&c| c as usize).collect();
+        model.bonds.break_contacts(&ids);
+        // Effects the scene does not build stay unbuilt.
+        let (broken, ground) = (model.state.broken.is_some(), model.state.ground.is_some());
+        model.state = state;
+        if !broken {
+            model.state.broken = None;
+        }
+        if !ground {
+            model.state.ground = None;
+        }
+        Ok(model)
+    }
+
+    fn bodies(&self) -> usize {
+        self.state.bodies.len()
+    }
+
+    fn step(&mut self, clock: &Clock, dt: f64) {
+        self.state
+            .loading
+            .prescribe(&mut self.state.bodies, clock.time + 0.5 * dt);
+        let st = &mut self.state;
+        self.integrator.kick_drift(&mut st.bodies, &st.forces, dt);
+        // Breaks are logged at the step being taken, at its start time.
+        let during = Clock { dt, ..*clock };
+        self.evaluate_forces(&during);
+        let st = &mut self.state;
+        self.integrator.kick(&mut st.bodies, &st.forces, dt);
+    }
+
+    fn stopped(&self) -> bool {
+        self.state.stopped
+    }
+
+    fn row(&mut self, clock: &Clock) -> Vec<f64> {
+        let st = &mut self.state;
+        let drop = matches!(st.loading, DlsmLoading::Drop(_));
+        let inputs = RowInputs {
+            time: clock.time,
+            bodies: &st.bodies,
+            reference: &self.reference,
+            broken: st.broken_order.len(),
+            strain_energy: if drop {
+                self.bonds.strain_energy(&st.bodies)
+            } else {
+                0.0
+            },
+            contact_energy: st.ground.as_ref().map_or(0.0, |g| g.energy),
+            ground_contacts: st.ground.as_ref().map_or(0, |g| g.contacts),
+        };
+        st.loading.row(&inputs)
+    }
+
+    fn after_row(&mut self, _clock: &Clock, series: &crate::probe::Series) {
+        if self.state.loading.failed(series) {
+            self.state.stopped = true;
+        }
+    }
+
+    fn first_non_finite(&self) -> Option<usize> {
+        self.state.bodies.first_non_finite()
+    }
+
+    fn instability_hint(&self, scene: &Scene, _clock: &Clock) -> String {
+        format!("lower time.safety (now {}) or time.dt", scene.time.safety)
+    }
+
+    fn summary(&self, run: &RunInfo, m: &mut Map<String, Value>) {
+        self.summary_keys(run, m);
+    }
+
+    fn snapshot(&self) -> Vec<(&'static str, String)> {
+        vec![("elements", self.elements_vtu())]
+    }
+
+    fn status(&self, clock: &Clock) -> String {
+        format!(
+            "t = {:.4e} s, {} broken contacts",
+            clock.time,
+            self.state.broken_order.len()
+        )
+    }
+
+    fn positions(&self) -> Vec<Vec3> {
+        self.state.bodies.pos.clone()
+    }
+
+    fn velocities(&self) -> Vec<Vec3> {
+        self.state.bodies.vel.clone()
+    }
+
+    fn orientations(&self) -> Vec<[f64; 4]> {
+        self.state
+            .bodies
+            .orientation
+            .iter()
+            .map(|q| [q.w, q.i, q.j, q.k])
+            .collect()
+    }
+}
+
+impl crate::models::Registered for Dlsm {
+    type Section = DlsmScene;
+    fn validate(scene: &Scene, section: &DlsmScene) -> Result<()> {
+        scene::validate(scene, section)
+    }
+    fn explain(scene: &Scene) -> Result<String> {
+        explain::explain(scene)
+    }
+}
+
+/// The rotational counterpart of Eq. 39: the smallest `sqrt(I_ij / (K S))` over the contacts,
+/// with `I_ij = I_i I_j / (I_i + I_j)` of the smallest principal moments (s).
+fn rotational_time_step(bodies: &Bodies, bonds: &DlsmBonds) -> f64 {
+    let mut dt = f64::INFINITY;
+    for (c, p) in bonds.pair.iter().enumerate() {
+        let (a, b) = (
+            bodies.inertia[p[0] as usize].min(),
+            bodies.inertia[p[1] as usize].min(),
+        );
+        let inertia = a * b / (a + b);
+        let k = bonds.young * bonds.length0[c] * bonds.area[c];
+        dt = dt.min((inertia / k).sqrt());
+    }
+    dt
+}
+
+/// The static field a free vibration starts from, at `x` (Section 8.2.2).
+fn initial_displacement(v: &FreeVibration, x: &Vec3) -> Vec3 {
+    match v.mode {
+        VibrationMode::Tension => Vec3::new(v.amplitude * x.x, 0.0, 0.0),
+        VibrationMode::Torsion => {
+            let (s, c) = (v.amplitude * x.x).sin_cos();
+            Vec3::new(0.0, x.y * c - x.z * s - x.y, x.y * s + x.z * c - x.z)
+        }
+    }
+}
+
+/// The loading of a dlsm scene on its sample.
+fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmLoading> {
+    let l = &cfg.loading;
+    let m = &cfg.material;
+    let strength = if scene.has_effect(EffectKind::Fracture) {
+        m.tensile_strength
+    } else {
+        None
+    };
+    let stop = l.stop_fraction.unwrap_or(DEFAULT_STOP);
+    let mean = |set: &[u32], axis: usize| {
+        set.iter()
+            .map(|&i| s.bodies.pos[i as usize][axis])
+            .sum::<f64>()
+            / set.len().max(1) as f64
+    };
+    let nonempty = |set: &Vec<u32>, what: &str| -> Result<()> {
+        if set.is_empty() {
+            Err(scene.key_error(
+                "sample.elements",
+                format!("gives no element on {what}; ask for more elements"),
+            ))
+        } else {
+            Ok(())
+        }
+    };
+    Ok(match l.kind {
+        LoadingKind::Tension => {
+            let Domain::Box { lo, hi } = s.domain else {
+                return Err(scene.key_error(
+                    "loading.kind",
+                    "= \"tension\" needs sample.kind = \"voronoi_box\"",
+                ));
+            };
+            let size = hi - lo;
+            let faces = BOX_FACES.map(|b| s.elements_on(b));
+            for (set, name) in faces.iter().zip(["x-", "x+", "y-", "y+", "z-", "z+"]) {
+                nonempty(set, name)?;
+            }
+            let gauge = [0, 1, 2].map(|a| mean(&faces[2 * a + 1], a) - mean(&faces[2 * a], a));
+            let rate = l.strain_rate.expect("validated");
+            let end = l.end_strain.expect("validated");
+            let middle = (0..s.bodies.len() as u32)
+                .filter(|&i| {
+                    let x = (s.bodies.pos[i as usize].x - lo.x) / size.x;
+                    (0.2..=0.8).contains(&x)
+                })
+                .collect();
+            let centre = lo.x + 0.5 * size.x;
+            let lever = [0, 1].map(|k: usize| {
+                faces[k]
+                    .iter()
+                    .map(|&i| s.bodies.pos[i as usize].x - centre)
+                    .collect()
+            });
+            DlsmLoading::Tension(Tension {
+                lever,
+                strain_rate: rate,
+                end_strain: end,
+                ramp_time: l.ramp_time.unwrap_or(DEFAULT_RAMP * end / rate),
+                length: size.x,
+                section: size.y * size.z,
+                faces,
+                gauge,
+                middle,
+                reaction: [0.0; 2],
+                stop_fraction: stop,
+                tensile_strength: strength,
+            })
+        }
+        LoadingKind::FreeVibration => {
+            // The bar's length: the sample was made longer by the clamp's grip.
+            let length = cfg.sample.length.expect("validated");
+            let mode = l.mode.expect("validated");
+            let clamped = s.elements_on(Boundary::XMin);
+            let free = s.elements_on(Boundary::XMax);
+            nonempty(&clamped, "x-")?;
+            nonempty(&free, "x+")?;
+            let shear = m.young / (2.0 * (1.0 + m.poisson));
+            let (amplitude, modulus) = match mode {
+                VibrationMode::Tension => (l.initial_strain.unwrap_or(1e-5), m.young),
+                VibrationMode::Torsion => (l.twist.unwrap_or(1e-4), shear),
+            };
+            DlsmLoading::FreeVibration(FreeVibration {
+                mode,
+                amplitude,
+                end_time: l.end_time.expect("validated"),
+                length,
+                clamped,
+                free,
+                // Eq. 44 / 45.
+                frequency_theory: (modulus / m.density).sqrt() / (4.0 * length),
+            })
+        }
+        LoadingKind::Brazilian => {
+            let Domain::Disc {
+                diameter,
+                thickness,
+            } = s.domain
+            else {
+                return Err(scene.key_error(
+                    "loading.kind",
+                    "= \"brazilian\" needs sample.kind = \"voronoi_disc\"",
+                ));
+            };
+            let radius = 0.5 * diameter;
+            let half_angle = 0.5 * l.arc_degrees.unwrap_or(0.0).to_radians();
+            // Flat loading still needs elements to push: those within half an element of
+            // the top (bottom) of the disc.
+            let reach = half_angle.max(0.5 * s.info.element_size / radius);
+            let mut top = Vec::new();
+            let mut bottom = Vec::new();
+            for f in &s.boundary {
+                if f.boundary != Boundary::Curved {
+                    continue;
+                }
+                let from_vertical = f.centroid.x.atan2(f.centroid.y.abs()).abs();
+                if from_vertical <= reach {
+                    if f.centroid.y > 0.0 {
+                        top.push(f.element);
+                    } else {
+                        bottom.push(f.element);
+                    }
+                }
+            }
+            top.sort_unstable();
+            top.dedup();
+            bottom.sort_unstable();
+            bottom.dedup();
+            nonempty(&top, "the top loading arc")?;
+            nonempty(&bottom, "the bottom loading arc")?;
+            let speed = l.speed.expect("validated");
+            let end = l.end_strain.expect("validated");
+            let gap = mean(&top, 1) - mean(&bottom, 1);
+            DlsmLoading::Brazilian(Brazilian {
+                speed,
+                end_strain: end,
+                ramp_time: l
+                    .ramp_time
+                    .unwrap_or(DEFAULT_RAMP * end * diameter / (2.0 * speed)),
+                half_angle,
+                diameter,
+                thickness,
+                top,
+                bottom,
+                gap,
+                reaction: [0.0; 2],
+                stop_fraction: stop,
+                tensile_strength: strength,
+            })
+        }
+        LoadingKind::Drop => {
+            let angle = l.ground_angle_degrees.unwrap_or(0.0).to_radians();
+            let normal = Vec3::new(angle.sin(), 0.0, angle.cos());
+            let downslope = Vec3::new(angle.cos(), 0.0, -angle.sin());
+            let mut lowest = f64::INFINITY;
+            for (i, shape) in s.shapes.iter().enumerate() {
+                let r = s.bodies.orientation[i];
+                for v in &shape.vertices {
+                    lowest = lowest.min(normal.dot(&(s.bodies.pos[i] + r * v)));
+                }
+            }
+            let ground_point = normal * (lowest - l.drop_height.unwrap_or(0.0));
+            let total: f64 = s.bodies.mass.iter().sum();
+            let centre = s
+                .bodies
+                .pos
+                .iter()
+                .zip(&s.bodies.mass)
+                .map(|(p, m)| p * *m)
+                .sum::<Vec3>()
+                / total;
+            let gravity = if scene.has_effect(EffectKind::Gravity) {
+                Vec3::from(scene.gravity.acceleration)
+            } else {
+                Vec3::zeros()
+            };
+            DlsmLoading::Drop(Drop {
+                end_time: l.end_time.expect("validated"),
+                ground_point,
+                ground_normal: normal,
+                downslope,
+                roll_axis: normal.cross(&downslope),
+                gravity,
+                turns: 0.0,
+                last_spin: 0.0,
+                last_time: 0.0,
+                centre0: centre,
+            })
+        }
+        LoadingKind::None => DlsmLoading::Free {
+            end_time: l.end_time.expect("validated"),
+        },
+    })
+}

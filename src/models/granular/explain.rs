@@ -1,0 +1,109 @@
+//! `fractum explain` for a granular scene.
+
+use std::fmt::Write;
+
+use super::scene::{EFFECTS, GranularScene, LoadingKind, SampleKind};
+use crate::error::Result;
+use crate::explain::write_pipeline;
+use crate::scene::{DtSpec, Scene};
+
+/// A human-readable account of the scene: sample, force pipeline (and what is left out),
+/// loading, time step and outputs.
+pub fn explain(scene: &Scene) -> Result<String> {
+    let cfg: GranularScene = scene.section()?;
+    let pipeline = super::pipeline(scene, &cfg);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "scene {} (\"{}\"), seed {}",
+        scene.source.label, scene.name, scene.seed
+    );
+    let _ = writeln!(s, "model: granular, spheres with Hertz–Mindlin contacts");
+    let _ = writeln!(s, "sample: {}", describe_sample(&cfg));
+    write_pipeline(
+        &mut s,
+        scene,
+        &pipeline.describe(),
+        &EFFECTS,
+        "bodies move freely",
+    );
+    let l = &cfg.loading;
+    let loading = match l.kind {
+        LoadingKind::None => format!(
+            "none: walls fixed for {:e} s",
+            l.end_time.unwrap_or_default()
+        ),
+        LoadingKind::Oedometer => format!(
+            "oedometer: top wall (z+) driven down at {} 1/s to axial strain {}; the other five walls fixed",
+            l.strain_rate.unwrap_or_default(),
+            l.end_strain.unwrap_or_default()
+        ),
+        LoadingKind::Platens => format!(
+            "platens: top wall (z+) driven down at {} m/s for {:e} m; the bottom fixed",
+            l.speed.unwrap_or_default(),
+            l.end_displacement.unwrap_or_default()
+        ),
+    };
+    let _ = writeln!(s, "loading: {loading}");
+    let dt = match scene.time.dt {
+        DtSpec::Auto => format!(
+            "auto = {} x the Rayleigh critical step of the smallest sphere",
+            scene.time.safety
+        ),
+        DtSpec::Seconds(v) => format!("{v:e} s"),
+    };
+    let _ = writeln!(s, "integrator: velocity Verlet, dt {dt}");
+    let vtk = if scene.output.vtk > 0 {
+        format!("VTK snapshot every {} steps", scene.output.vtk)
+    } else {
+        "no VTK".to_string()
+    };
+    let _ = writeln!(
+        s,
+        "outputs: series.csv row every {} steps, {vtk}, summary.json at the end",
+        scene.output.every
+    );
+    Ok(s)
+}
+
+fn describe_sample(cfg: &GranularScene) -> String {
+    let p = &cfg.sample;
+    match p.kind {
+        SampleKind::Random => {
+            let (mean, sd, min, max) = super::sample::radius_bounds(cfg);
+            let count = match (p.count, p.solid_fraction) {
+                (Some(n), _) => format!("{n} spheres"),
+                (None, Some(phi)) => format!("spheres filling solid fraction {phi}"),
+                _ => String::new(),
+            };
+            let mut s = format!(
+                "random packing of {count}, radii truncated normal (mean {mean:e} m, sd {sd:e} m, in [{min:e}, {max:e}] m), box {:?} m",
+                p.box_size.unwrap_or_default()
+            );
+            if let Some(pr) = p.pressure {
+                let _ = write!(
+                    s,
+                    ", then servo-compacted to {pr:e} Pa (friction {})",
+                    p.compaction_friction.unwrap_or(cfg.material.friction)
+                );
+            }
+            s
+        }
+        SampleKind::SimpleCubic | SampleKind::Hcp => format!(
+            "{} lattice of {:?} spheres of radius {:e} m",
+            p.kind.as_str(),
+            p.layers.unwrap_or_default(),
+            p.radius_mean.unwrap_or_default()
+        ),
+        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => format!(
+            "{} file {}",
+            p.kind.as_str(),
+            p.file.as_deref().unwrap_or("")
+        ),
+        SampleKind::Single => format!(
+            "one poly-ellipsoid grain, semi-axes [a+, a-, b+, b-, c+, c-] = {:?} m, on the bottom of a box of base {:?} m",
+            p.semi_axes.unwrap_or_default(),
+            p.box_size.map(|b| [b[0], b[1]]).unwrap_or_default()
+        ),
+    }
+}

@@ -1,0 +1,793 @@
+//! The `granular` model (poly-ellipsoid-fracture-shpb.txt): spheres and poly-ellipsoids with
+//! Hertz–Mindlin contacts in a box of walls, and, with `fracture`, grains that break into
+//! sub-poly-ellipsoids held by cohesive springs.
+//!
+//! ```text
+//! loading.apply            set wall velocities
+//! kick_drift               v(t+dt/2), x(t+dt); walls move
+//! pipeline.accumulate      forces at t+dt (only the effects the scene names)
+//! kick                     v(t+dt)
+//! after the step           fracture: energy account, breaking grains, size distributions
+//! at output steps          stability estimate (and, with fracture, a shorter step)
+//! ```
+
+pub mod bench;
+mod explain;
+pub mod export;
+pub mod loading;
+pub mod sample;
+pub mod scene;
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value};
+
+use crate::effects::{ContactParams, Pipeline, StepContext};
+use crate::error::{Error, Result};
+use crate::fracture::{FractureParams, GrainFracture};
+use crate::integrate::{VelocityVerlet, rayleigh_time_step};
+use crate::output::vtk;
+use crate::probe::energy::{EnergyAccount, Mechanical};
+use crate::probe::size_distribution;
+use crate::probe::{self, Series};
+use crate::run::{Built, Clock, Faces, Model, RunInfo, Runner, end_step};
+use crate::sample::{Sample, SampleInfo};
+use crate::scene::{DtSpec, EffectKind, Scene};
+use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
+use loading::Loading;
+use scene::GranularScene;
+
+pub use explain::explain;
+
+/// A granular run: the generic runner over the granular model.
+pub type Simulation = Runner<Granular>;
+
+/// The granular model: its scene section, the pipeline and integrator built from it, and the
+/// persistent state.
+pub struct Granular {
+    pub cfg: GranularScene,
+    pub pipeline: Pipeline,
+    pub integrator: VelocityVerlet,
+    /// Gravity (m/s²) with the `gravity` effect, for the energy account.
+    pub gravity: Option<Vec3>,
+    /// `output.report_strains` or the default list (see [`Granular::report_strains`]).
+    report_strains: Vec<f64>,
+    /// `time.dt = "auto"`: the step may be shortened for breaking grains' pieces.
+    pub auto_dt: bool,
+    pub state: GranularState,
+}
+
+/// What a checkpoint keeps of a granular run (with the pipeline's contact history).
+#[derive(Clone, Serialize, Deserialize)]
+pub struct GranularState {
+    pub bodies: Bodies,
+    pub walls: Walls,
+    /// Forces and torques of the last evaluation (at the current positions).
+    pub forces: Forces,
+    pub loading: Loading,
+    pub sample: SampleInfo,
+    /// Box height at the start of loading (m), the reference of the axial strain.
+    pub height0: f64,
+    /// The Rayleigh critical step the first step derives from (s).
+    pub dt_rayleigh: f64,
+    /// The largest `ω dt` seen at the output steps (see [`Granular::check_stability`]).
+    pub max_omega_dt: f64,
+    /// Times the step was shortened for breaking grains' pieces (see `adapt_time_step`).
+    pub dt_shortened: u32,
+    /// Particle fracture and cohesion (the `fracture` effect), its energy account and the
+    /// pieces' masses at the report strains.
+    pub fracture: Option<GrainFracture>,
+    pub energy: Option<EnergyAccount>,
+    pub psd: Vec<(f64, Vec<f64>)>,
+}
+
+impl std::ops::Deref for Granular {
+    type Target = GranularState;
+    fn deref(&self) -> &GranularState {
+        &self.state
+    }
+}
+
+impl std::ops::DerefMut for Granular {
+    fn deref_mut(&mut self) -> &mut GranularState {
+        &mut self.state
+    }
+}
+
+/// The value of `ys` at `x` by linear interpolation along the increasing `xs`; `None` outside.
+fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
+    let k = xs.iter().position(|&v| v >= x)?;
+    if k == 0 {
+        return (xs[0] == x).then(|| ys[0]);
+    }
+    let t = (x - xs[k - 1]) / (xs[k] - xs[k - 1]);
+    Some(ys[k - 1] + t * (ys[k] - ys[k - 1]))
+}
+
+/// Above this estimated `ω dt` a run stops, above the second it warns.
+const OMEGA_DT_LIMIT: f64 = 2.0;
+const OMEGA_DT_WARN: f64 = 1.6;
+/// The estimated `ω dt` above which a fracture run shortens its step.
+pub const ADAPT_OMEGA_DT: f64 = 0.6;
+
+/// The force pipeline of exactly the effects a granular scene names. `friction` overrides
+/// the material's coefficient (sample preparation compacts with its own).
+pub fn pipeline(scene: &Scene, cfg: &GranularScene) -> Pipeline {
+    let contact = scene
+        .has_effect(EffectKind::Contact)
+        .then(|| contact_params(scene, cfg, None));
+    let gravity = scene
+        .has_effect(EffectKind::Gravity)
+        .then(|| Vec3::from(scene.gravity.acceleration));
+    Pipeline::new(contact, gravity)
+}
+
+/// The contact model a granular scene asks for.
+pub fn contact_params(scene: &Scene, cfg: &GranularScene, friction: Option<f64>) -> ContactParams {
+    use crate::contact::hertz_mindlin::{Hertz, Mindlin, ViscousDamping};
+    let m = &cfg.material;
+    let nu = m.poisson();
+    ContactParams {
+        hertz: Hertz::new(m.young, nu),
+        damping: scene
+            .has_effect(EffectKind::Damping)
+            .then(|| ViscousDamping::from_restitution(m.restitution)),
+        mindlin: scene
+            .has_effect(EffectKind::Friction)
+            .then(|| Mindlin::new(m.young, nu, friction.unwrap_or(m.friction))),
+        wall_friction: cfg.walls.friction,
+        skin: cfg.neighbor.skin,
+        shapes: scene.has_effect(EffectKind::Fracture)
+            || cfg.sample.shape == Some(scene::GrainShape::PolyEllipsoid),
+    }
+}
+
+/// The fracture constants of a granular scene, resolved.
+pub fn fracture_params(scene: &Scene, cfg: &GranularScene) -> FractureParams {
+    FractureParams::new(
+        &cfg.fracture,
+        cfg.material.young,
+        cfg.material.poisson(),
+        scene.has_effect(EffectKind::Weibull),
+        scene.has_effect(EffectKind::Cohesion),
+    )
+}
+
+impl Granular {
+    /// Sets the model up on a sample (built from the scene, or made elsewhere).
+    pub fn from_sample(scene: &Scene, cfg: GranularScene, sample: Sample) -> Result<Built<Self>> {
+        let Sample {
+            bodies,
+            walls,
+            info,
+        } = sample;
+        if bodies.is_empty() {
+            return Err(scene.key_error("sample", "gives no bodies"));
+        }
+        let loading = Loading::from_scene(scene, &cfg, &walls)?;
+        let height0 = if walls.is_box {
+            walls.box_size().z
+        } else {
+            0.0
+        };
+        let m = &cfg.material;
+        // Breaking grains end as pieces of an eighth of their mass (three splits at most,
+        // Section 3.3.3) whose Rayleigh time is about half the grain's: the first step is
+        // chosen for them; `adapt_time_step` shortens it further when pieces' contacts ask.
+        let fracture = scene.has_effect(EffectKind::Fracture);
+        let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
+        let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson());
+        let dt = match scene.time.dt {
+            DtSpec::Auto => scene.time.safety * dt_rayleigh,
+            DtSpec::Seconds(s) => s,
+        };
+        let end = end_step(loading.end_time(), dt);
+        let mut columns: Vec<&'static str> = if matches!(loading, Loading::Platens { .. }) {
+            probe::PLATEN_COLUMNS.to_vec()
+        } else if walls.is_box {
+            probe::BOX_COLUMNS.to_vec()
+        } else {
+            probe::FREE_COLUMNS.to_vec()
+        };
+        if fracture {
+            columns.extend_from_slice(&probe::FRACTURE_COLUMNS);
+        }
+        let track_orientation = fracture || bodies.shape.iter().any(|s| !s.is_sphere());
+        let report_strains = scene
+            .output
+            .report_strains
+            .clone()
+            .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]);
+        let fracture_state =
+            fracture.then(|| GrainFracture::new(fracture_params(scene, &cfg), scene.seed, &bodies));
+        let mut model = Granular {
+            pipeline: pipeline(scene, &cfg),
+            integrator: VelocityVerlet { track_orientation },
+            gravity: scene
+                .has_effect(EffectKind::Gravity)
+                .then(|| Vec3::from(scene.gravity.acceleration)),
+            report_strains,
+            auto_dt: scene.time.dt == DtSpec::Auto,
+            cfg,
+            state: GranularState {
+                forces: Forces::new(bodies.len()),
+                bodies,
+                walls,
+                loading,
+                sample: info,
+                height0,
+                dt_rayleigh,
+                max_omega_dt: 0.0,
+                dt_shortened: 0,
+                fracture: fracture_state,
+                energy: None,
+                psd: Vec::new(),
+            },
+        };
+        model.evaluate_forces(dt, false);
+        if model.state.fracture.is_some() {
+            model.state.energy = Some(EnergyAccount::new(
+                &model.state.walls,
+                model.mechanical_energy(),
+            ));
+            model.take_size_distributions();
+        }
+        Ok(Built {
+            model,
+            dt,
+            end_step: end,
+            columns,
+            warnings: Vec::new(),
+        })
+    }
+
+    fn evaluate_forces(&mut self, dt: f64, update_history: bool) {
+        let st = &mut self.state;
+        st.forces.clear();
+        st.walls.clear_forces();
+        let ctx = StepContext { dt, update_history };
+        self.pipeline
+            .accumulate(&ctx, &st.bodies, &mut st.walls, &mut st.forces);
+        if let Some(f) = &mut st.fracture {
+            f.add_spring_forces(&st.bodies, &mut st.forces);
+        }
+    }
+
+    /// Fracture after a step: account the step's energy, break the grains that fail at the
+    /// new state, and take the size distribution at the report strains.
+    fn after_fracture_step(&mut self, clock: &mut Clock, dt: f64) {
+        let dissipated = self.pipeline.records().map_or(0.0, |r| r.dissipated);
+        if let Some(e) = &mut self.state.energy {
+            e.add_step(&self.state.walls, dissipated, dt);
+        }
+        let fracture = self.state.fracture.as_ref().expect("called with fracture");
+        let records = self.pipeline.records().expect("fracture records contacts");
+        let breaking = fracture.check(&self.state.bodies, &self.state.forces, records);
+        self.break_grains(clock, &breaking);
+        self.take_size_distributions();
+    }
+
+    /// Splits the given grains now (each with what broke it; see
+    /// [`GrainFracture::check`]), re-evaluates the forces on the new shapes and bonds the
+    /// halves. Returns the number of splits made (grains whose shape forbids breaking make
+    /// none). Needs the `fracture` effect.
+    pub fn break_grains(
+        &mut self,
+        clock: &mut Clock,
+        breaking: &[crate::fracture::Breaking],
+    ) -> usize {
+        if breaking.is_empty() || self.state.fracture.is_none() {
+            return 0;
+        }
+        let before = self.mechanical_energy();
+        let st = &mut self.state;
+        let fracture = st.fracture.as_mut().expect("checked above");
+        let pending = fracture.split(&mut st.bodies, &st.forces, breaking, clock.step, clock.time);
+        if !pending.is_empty() {
+            let reshaped: Vec<usize> = pending.iter().map(|p| p.a).collect();
+            self.pipeline.reshaped(&reshaped);
+            self.state.forces = Forces::new(self.state.bodies.len());
+            self.evaluate_forces(clock.dt, false);
+            let omega = self
+                .pipeline
+                .max_frequency(&self.state.bodies, &self.state.walls);
+            self.adapt_time_step(clock, omega);
+            let after = self.mechanical_energy();
+            let st = &mut self.state;
+            let fracture = st.fracture.as_mut().expect("checked above");
+            fracture.split_energy += after.total() - before.total();
+            fracture.bond(&st.bodies, &mut st.forces, &pending);
+        }
+        pending.len()
+    }
+
+    /// Kinetic, contact elastic and gravitational energy now (J); elastic from the contact
+    /// records of the last evaluation.
+    fn mechanical_energy(&self) -> Mechanical {
+        let b = &self.state.bodies;
+        let elastic = self
+            .pipeline
+            .records()
+            .map_or(0.0, |r| r.list.iter().map(|c| c.energy).sum());
+        let gravity = match self.gravity {
+            Some(g) => -(0..b.len())
+                .map(|i| b.mass[i] * g.dot(&b.pos[i]))
+                .sum::<f64>(),
+            None => 0.0,
+        };
+        Mechanical {
+            kinetic: b.kinetic_energy(),
+            elastic,
+            gravity,
+        }
+    }
+
+    /// The masses of the pieces (grains and fragments held by intact springs), at the start
+    /// and once each report strain is passed.
+    fn take_size_distributions(&mut self) {
+        let st = &self.state;
+        let Some(f) = &st.fracture else {
+            return;
+        };
+        let strain = self.axial_strain();
+        let due = if st.psd.is_empty() {
+            Some(0.0)
+        } else {
+            self.report_strains()
+                .into_iter()
+                .find(|&e| strain >= e - 1e-12 && st.psd.iter().all(|(s, _)| *s != e))
+        };
+        let Some(at) = due else {
+            return;
+        };
+        let (labels, count) = f.pieces(st.bodies.len());
+        let masses = crate::probe::fragments::sum_by_component(&labels, count, &st.bodies.mass);
+        self.state.psd.push((at, masses));
+    }
+
+    /// Breaking grains make pieces smaller than any grain of the sample, and contacts between
+    /// them as stiff as their overlaps make them: with `fracture` and `time.dt = "auto"`, the
+    /// step is shortened whenever the estimated highest frequency (normal and tangential
+    /// contact springs through their levers) gives `ω dt` above [`ADAPT_OMEGA_DT`]; it never
+    /// grows back. Checked at every output step and after every split. Without it the pieces'
+    /// spins went unstable (ω dt estimated 1.3, the rotational modes beyond 2) and fed energy to
+    /// the contacts' damping: 91% energy-balance error in a 5×5×5 hcp SHPB sample at 0.2 strain.
+    /// `omega` is the current estimate of the highest frequency (rad/s).
+    fn adapt_time_step(&mut self, clock: &mut Clock, omega: f64) {
+        if self.state.fracture.is_none() || !self.auto_dt {
+            return;
+        }
+        let omega_dt = omega * clock.dt;
+        if omega_dt <= ADAPT_OMEGA_DT {
+            return;
+        }
+        clock.dt *= ADAPT_OMEGA_DT / omega_dt;
+        self.state.dt_shortened += 1;
+        let end_time = self.state.loading.end_time();
+        clock.end_step = clock
+            .step
+            .saturating_add(end_step((end_time - clock.time).max(0.0), clock.dt));
+    }
+
+    /// Velocity Verlet is stable while `ω dt < 2` for the highest frequency ω of the system.
+    /// Hertz contacts stiffen as they overlap, so a step chosen from the Rayleigh time can
+    /// become too long under heavy compaction: then the results go wrong before anything turns
+    /// infinite (SHPB to 10% strain: 1% off at an estimated ω dt of 1.7, 22% at 2.04). The
+    /// estimate is checked at every output step; above 2 the run stops, above 1.6 it warns.
+    fn check_stability(
+        &mut self,
+        scene: &Scene,
+        clock: &mut Clock,
+        warnings: &mut Vec<String>,
+    ) -> Result<()> {
+        let omega = self
+            .pipeline
+            .max_frequency(&self.state.bodies, &self.state.walls);
+        self.adapt_time_step(clock, omega);
+        let omega_dt = omega * clock.dt;
+        self.state.max_omega_dt = self.state.max_omega_dt.max(omega_dt);
+        if omega_dt > OMEGA_DT_LIMIT {
+            return Err(Error::run(format!(
+                "the time step is too long for the contacts at step {} (t = {:e} s): the stiffest body oscillates with omega dt = {omega_dt:.2}, and velocity Verlet needs less than 2; lower time.safety (now {}) or time.dt",
+                clock.step, clock.time, scene.time.safety
+            )));
+        }
+        if omega_dt > OMEGA_DT_WARN && !warnings.iter().any(|w| w.starts_with("omega dt")) {
+            warnings.push(format!(
+                "omega dt reached {omega_dt:.2} at step {} (t = {:e} s): contacts have stiffened enough that results lose accuracy (about 1% at 1.7); consider a lower time.safety",
+                clock.step, clock.time
+            ));
+        }
+        Ok(())
+    }
+
+    /// The axial strain of the box (0 without one).
+    pub fn axial_strain(&self) -> f64 {
+        let st = &self.state;
+        if st.walls.is_box {
+            (st.height0 - st.walls.box_size().z) / st.height0
+        } else {
+            0.0
+        }
+    }
+
+    /// Grains of the sample broken so far (0 without the `fracture` effect).
+    pub fn broken_particles(&self) -> usize {
+        self.state
+            .fracture
+            .as_ref()
+            .map_or(0, |f| f.broken_particles())
+    }
+
+    /// The strains at which the size distribution and the stress are reported: those of an
+    /// oedometer run up to its end strain.
+    pub fn report_strains(&self) -> Vec<f64> {
+        let end = match self.state.loading {
+            Loading::Oedometer { end_strain, .. } => end_strain,
+            _ => return Vec::new(),
+        };
+        self.report_strains
+            .iter()
+            .copied()
+            .filter(|&e| e <= end + 1e-12)
+            .collect()
+    }
+
+    /// The `fracture` effect's results: grains broken, fragments, splits by criterion, springs,
+    /// the stress at the report strains, the median size at each, and the energy account.
+    fn fracture_summary(&self, f: &GrainFracture, m: &mut Map<String, Value>) {
+        use serde_json::json;
+        let n = self.state.bodies.len();
+        m.insert("broken_particles".into(), f.broken_particles().into());
+        m.insert("fragments".into(), f.fragments(n).into());
+        m.insert("particles_final".into(), n.into());
+        let by =
+            |c: crate::fracture::Criterion| f.events.iter().filter(|e| e.criterion == c).count();
+        m.insert(
+            "splits".into(),
+            json!({
+                "total": f.events.len(),
+                "hoek_brown": by(crate::fracture::Criterion::HoekBrown),
+                "contacts": by(crate::fracture::Criterion::Contacts),
+            }),
+        );
+        m.insert(
+            "springs".into(),
+            json!({"made": f.springs.len(), "intact": f.intact_springs()}),
+        );
+        if let Some(first) = f.events.first() {
+            m.insert("first_split_time".into(), first.time.into());
+        }
+        let strains = self.report_strains();
+        if !strains.is_empty() {
+            let rho = self.cfg.material.density;
+            let mut d50 = serde_json::Map::new();
+            for (e, masses) in &self.state.psd {
+                let pieces = size_distribution::pieces(masses, rho);
+                d50.insert(
+                    format!("{e}"),
+                    size_distribution::median_diameter(&pieces).into(),
+                );
+            }
+            m.insert("median_diameter_at_strain".into(), Value::Object(d50));
+        }
+        if let Some(e) = &self.state.energy {
+            m.insert(
+                "energy".into(),
+                e.report(self.mechanical_energy(), f.spring_work, f.split_energy),
+            );
+        }
+    }
+
+    /// `stress_at_strain`: the axial stress (Pa) at the report strains of an oedometer run.
+    fn stress_summary(&self, series: &Series, m: &mut Map<String, Value>) {
+        let strains = self.report_strains();
+        if !strains.is_empty() {
+            let (eps, axial) = (
+                series.column("axial_strain").unwrap_or_default(),
+                axial_stress_column(series),
+            );
+            let mut at = serde_json::Map::new();
+            for e in &strains {
+                if let Some(v) = interpolate(&eps, &axial, *e) {
+                    at.insert(format!("{e}"), v.into());
+                }
+            }
+            m.insert("stress_at_strain".into(), Value::Object(at));
+        }
+    }
+
+    /// psd.csv: the sieve curves (mass fraction finer than each equivalent diameter) at the
+    /// start and at each report strain reached.
+    pub fn psd_csv(&self) -> Option<String> {
+        if self.state.psd.is_empty() || self.state.fracture.is_none() {
+            return None;
+        }
+        let rho = self.cfg.material.density;
+        let curves: Vec<Vec<(f64, f64)>> = self
+            .state
+            .psd
+            .iter()
+            .map(|(_, masses)| size_distribution::pieces(masses, rho))
+            .collect();
+        let sieves = size_distribution::sieve_sizes(curves.iter().flatten().map(|p| p.1), 40);
+        let passing: Vec<Vec<f64>> = curves
+            .iter()
+            .map(|c| size_distribution::passing(c, &sieves))
+            .collect();
+        let mut s = String::from("diameter");
+        for (e, _) in &self.state.psd {
+            s.push_str(&format!(",passing_at_strain_{e}"));
+        }
+        s.push('\n');
+        for (k, d) in sieves.iter().enumerate() {
+            s.push_str(&format!("{d:e}"));
+            for p in &passing {
+                s.push_str(&format!(",{:e}", p[k] + 0.0)); // no "-0"
+            }
+            s.push('\n');
+        }
+        Some(s)
+    }
+}
+
+/// Axial stress of each series row: the mean of the top and bottom faces (Pa).
+fn axial_stress_column(series: &Series) -> Vec<f64> {
+    match (
+        series.column("stress_driven"),
+        series.column("stress_opposite"),
+    ) {
+        (Some(a), Some(b)) => a.iter().zip(&b).map(|(x, y)| 0.5 * (x + y)).collect(),
+        _ => Vec::new(),
+    }
+}
+
+impl Model for Granular {
+    const KIND: &'static str = "granular";
+    const BODY: &'static str = "body";
+
+    fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
+        let cfg: GranularScene = scene.section()?;
+        let sample = sample::build(scene, &cfg, progress)?;
+        Granular::from_sample(scene, cfg, sample)
+    }
+
+    fn save(&self) -> Vec<u8> {
+        postcard::to_stdvec(&(&self.state, self.pipeline.save()))
+            .expect("the granular state serialises")
+    }
+
+    fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self> {
+        type Saved = (GranularState, Vec<(String, Vec<u8>)>);
+        let (state, effects): Saved = postcard::from_bytes(bytes)
+            .map_err(|e| Error::run(format!("the checkpoint's granular state is damaged ({e})")))?;
+        let cfg: GranularScene = scene.section()?;
+        let mut pipeline = pipeline(scene, &cfg);
+        pipeline.restore(&effects)?;
+        let fracture = scene.has_effect(EffectKind::Fracture);
+        Ok(Granular {
+            pipeline,
+            integrator: VelocityVerlet {
+                track_orientation: fracture || state.bodies.shape.iter().any(|s| !s.is_sphere()),
+            },
+            gravity: scene
+                .has_effect(EffectKind::Gravity)
+                .then(|| Vec3::from(scene.gravity.acceleration)),
+            report_strains: scene
+                .output
+                .report_strains
+                .clone()
+                .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]),
+            auto_dt: scene.time.dt == DtSpec::Auto,
+            cfg,
+            state,
+        })
+    }
+
+    fn bodies(&self) -> usize {
+        self.state.bodies.len()
+    }
+
+    fn step(&mut self, _clock: &Clock, dt: f64) {
+        let st = &mut self.state;
+        st.loading.apply(&mut st.walls);
+        self.integrator.kick_drift(&mut st.bodies, &st.forces, dt);
+        st.walls.advance(dt);
+        self.evaluate_forces(dt, true);
+        let st = &mut self.state;
+        self.integrator.kick(&mut st.bodies, &st.forces, dt);
+    }
+
+    fn after_step(&mut self, clock: &mut Clock, dt: f64) {
+        if self.state.fracture.is_some() {
+            self.after_fracture_step(clock, dt);
+        }
+    }
+
+    fn at_output(
+        &mut self,
+        scene: &Scene,
+        clock: &mut Clock,
+        warn: &mut Vec<String>,
+    ) -> Result<()> {
+        self.check_stability(scene, clock, warn)
+    }
+
+    fn row(&mut self, clock: &Clock) -> Vec<f64> {
+        let st = &self.state;
+        let contacts = self.pipeline.contacts();
+        let mut row = if matches!(st.loading, Loading::Platens { .. }) {
+            probe::platen_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)
+        } else if st.walls.is_box {
+            probe::box_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)
+        } else {
+            probe::free_row(clock.time, &st.bodies, contacts)
+        };
+        if let (Some(f), Some(e)) = (&st.fracture, &st.energy) {
+            let now = self.mechanical_energy();
+            row.extend_from_slice(&[
+                st.bodies.len() as f64,
+                f.broken_particles() as f64,
+                f.fragments(st.bodies.len()) as f64,
+                f.intact_springs() as f64,
+                now.elastic,
+                e.boundary_work,
+                e.dissipated,
+                -f.spring_work,
+            ]);
+        }
+        row
+    }
+
+    fn first_non_finite(&self) -> Option<usize> {
+        self.state.bodies.first_non_finite()
+    }
+
+    fn instability_hint(&self, scene: &Scene, _clock: &Clock) -> String {
+        format!("lower time.safety (now {}) or time.dt", scene.time.safety)
+    }
+
+    fn summary(&self, run: &RunInfo, m: &mut Map<String, Value>) {
+        let st = &self.state;
+        m.insert("dt_rayleigh".into(), st.dt_rayleigh.into());
+        m.insert(
+            "sample".into(),
+            serde_json::to_value(&st.sample).expect("sample info serialises"),
+        );
+        m.insert(
+            "solid_fraction_initial".into(),
+            st.sample.solid_fraction.into(),
+        );
+        m.insert("contacts_final".into(), self.pipeline.contacts().into());
+        m.insert("max_omega_dt".into(), st.max_omega_dt.into());
+        if st.fracture.is_some() {
+            m.insert("dt_shortened".into(), st.dt_shortened.into());
+        }
+        m.insert(
+            "kinetic_energy_final".into(),
+            st.bodies.kinetic_energy().into(),
+        );
+        st.loading.summarize(run.series, m);
+        self.stress_summary(run.series, m);
+        if let Some(f) = &st.fracture {
+            self.fracture_summary(f, m);
+        }
+    }
+
+    fn snapshot(&self) -> Vec<(&'static str, String)> {
+        let st = &self.state;
+        let mut files = vec![("particles", vtk::particles_vtu(&st.bodies, &st.forces))];
+        if st.walls.is_box {
+            files.push(("walls", vtk::box_walls_vtu(&st.walls)));
+        }
+        if st.fracture.is_some() || st.bodies.shape.iter().any(|s| !s.is_sphere()) {
+            let origin = st.fracture.as_ref().map_or(&[][..], |f| &f.origin[..]);
+            files.push(("grains", vtk::grains_vtu(&st.bodies, origin)));
+        }
+        files
+    }
+
+    fn extra_outputs(&self) -> Vec<(String, Vec<u8>)> {
+        self.psd_csv()
+            .map(|csv| vec![("psd.csv".to_string(), csv.into_bytes())])
+            .unwrap_or_default()
+    }
+
+    fn status(&self, clock: &Clock) -> String {
+        format!(
+            "t = {:.4e} s, strain {:.4}",
+            clock.time,
+            self.axial_strain()
+        )
+    }
+
+    fn positions(&self) -> Vec<Vec3> {
+        self.state.bodies.pos.clone()
+    }
+
+    fn velocities(&self) -> Vec<Vec3> {
+        self.state.bodies.vel.clone()
+    }
+
+    fn orientations(&self) -> Vec<[f64; 4]> {
+        self.state
+            .bodies
+            .orientation
+            .iter()
+            .map(|q| [q.w, q.i, q.j, q.k])
+            .collect()
+    }
+
+    fn faces_mut(&mut self) -> Option<&mut dyn Faces> {
+        self.state.walls.is_box.then_some(self as &mut dyn Faces)
+    }
+
+    fn faces(&self) -> Option<&dyn Faces> {
+        self.state.walls.is_box.then_some(self as &dyn Faces)
+    }
+}
+
+impl Faces for Granular {
+    fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()> {
+        if !self.state.walls.is_box {
+            return Err(Error::run(
+                "face speeds need a sample in a box (random, lattice or file packing)",
+            ));
+        }
+        if !(top.is_finite() && bottom.is_finite()) {
+            return Err(Error::run(format!(
+                "face speeds must be finite, got top {top} and bottom {bottom} m/s"
+            )));
+        }
+        self.state.loading = Loading::Faces { top, bottom };
+        Ok(())
+    }
+
+    fn face_forces(&self) -> (f64, f64) {
+        let w = &self.state.walls;
+        if !w.is_box {
+            return (0.0, 0.0);
+        }
+        (
+            w.face(BoxFace::ZMax).normal_force(),
+            w.face(BoxFace::ZMin).normal_force(),
+        )
+    }
+
+    fn face_stresses(&self) -> (f64, f64) {
+        let w = &self.state.walls;
+        if !w.is_box {
+            return (0.0, 0.0);
+        }
+        (w.face_stress(BoxFace::ZMax), w.face_stress(BoxFace::ZMin))
+    }
+
+    fn face_area(&self) -> f64 {
+        let size = self.state.walls.box_size();
+        size.x * size.y
+    }
+}
+
+impl Runner<Granular> {
+    /// A granular run on a sample made elsewhere (tests, benchmarks, exports).
+    pub fn from_sample(scene: Scene, sample: Sample, threads: usize) -> Result<Self> {
+        let cfg: GranularScene = scene.section()?;
+        let built = Granular::from_sample(&scene, cfg, sample)?;
+        Runner::from_built(scene, built, threads)
+    }
+
+    /// Splits the given grains now (see [`Granular::break_grains`]).
+    pub fn break_grains(&mut self, breaking: &[crate::fracture::Breaking]) -> usize {
+        let (model, clock) = (&mut self.model, &mut self.clock);
+        model.break_grains(clock, breaking)
+    }
+}
+
+impl crate::models::Registered for Granular {
+    type Section = GranularScene;
+    fn validate(scene: &Scene, section: &GranularScene) -> Result<()> {
+        scene::validate(scene, section)
+    }
+    fn explain(scene: &Scene) -> Result<String> {
+        explain::explain(scene)
+    }
+}

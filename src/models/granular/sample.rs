@@ -1,0 +1,248 @@
+//! The granular sample a scene describes: random packings (spheres or poly-ellipsoids),
+//! lattices, packing files and the single grain, optionally compacted to a pressure.
+
+use nalgebra::UnitQuaternion;
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+
+use super::scene::{GrainShape, GranularScene, Orientations, SampleKind};
+use crate::error::Result;
+use crate::sample::{
+    CompactionSpec, STREAM_ORIENTATIONS, STREAM_POSITIONS, STREAM_RADII, STREAM_SHAPES, Sample,
+    SampleInfo, bounding_box, compact_to_pressure, hcp_positions, pack_geometric,
+    random_orientation, read_lammps_data, read_text_packing, simple_cubic_positions, stream,
+    truncated_normal_radii,
+};
+use crate::scene::Scene;
+use crate::shape::{PolyEllipsoid, sphere_volume};
+use crate::state::{Bodies, Vec3, Walls};
+
+/// `kind = "single"`: one grain of `semi_axes`, its shape frame aligned with the box (or
+/// turned at random with `orientations = "random"`), resting on the bottom face, the top face
+/// touching it, centred in the box's base.
+fn single_grain(
+    scene: &Scene,
+    cfg: &GranularScene,
+    orient: &mut ChaCha8Rng,
+) -> Result<(Bodies, Walls)> {
+    let spec = &cfg.sample;
+    let semi = spec.semi_axes.expect("validated");
+    let pe = PolyEllipsoid::new(semi).map_err(|m| scene.key_error("sample.semi_axes", m))?;
+    let q = match spec.orientations.unwrap_or(Orientations::Aligned) {
+        Orientations::Random => random_orientation(orient),
+        Orientations::Aligned => UnitQuaternion::identity(),
+    };
+    let bx = spec.box_size.expect("validated");
+    // Extent of the grain along z about its octant origin.
+    let up = pe.support_value(&(q.inverse() * Vec3::z()));
+    let down = pe.support_value(&(q.inverse() * -Vec3::z()));
+    let origin = Vec3::new(0.5 * bx[0], 0.5 * bx[1], down);
+    let mut b = Bodies::default();
+    let rho = cfg.material.density;
+    if semi.iter().all(|&s| s == semi[0]) {
+        b.push_sphere(origin, semi[0], rho, q);
+    } else {
+        b.push_poly_ellipsoid(pe, rho * pe.volume(), origin + q * pe.centroid(), q);
+    }
+    let hi = Vec3::new(bx[0], bx[1], up + down);
+    Ok((b, Walls::new_box(Vec3::zeros(), hi)))
+}
+
+/// `shape = "poly_ellipsoid"`: each packed sphere of radius r becomes a poly-ellipsoid inside
+/// it, its six semi-axes drawn uniformly in [r / aspect_ratio_max, r] (so that each axis ratio
+/// lies between 1 and the maximum), its octant origin at the sphere's centre and its shape
+/// frame the sphere's orientation.
+fn poly_ellipsoids_in_spheres(scene: &Scene, cfg: &GranularScene, spheres: &Bodies) -> Bodies {
+    let aspect = cfg.sample.aspect_ratio_max.unwrap_or(2.0);
+    let mut rng = stream(scene.seed, STREAM_SHAPES);
+    let rho = cfg.material.density;
+    let mut b = Bodies::default();
+    for i in 0..spheres.len() {
+        let r = spheres.radius[i];
+        let semi = [(); 6].map(|_| r * (1.0 / aspect + (1.0 - 1.0 / aspect) * rng.random::<f64>()));
+        let pe = PolyEllipsoid::new(semi).expect("positive semi-axes");
+        let q = spheres.orientation[i];
+        b.push_poly_ellipsoid(pe, rho * pe.volume(), spheres.pos[i] + q * pe.centroid(), q);
+    }
+    b
+}
+
+/// Builds the sample a scene describes. `progress` receives one-line notes on long stages.
+pub fn build(
+    scene: &Scene,
+    cfg: &GranularScene,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<Sample> {
+    let spec = &cfg.sample;
+    let rho = cfg.material.density;
+    let mut orient = stream(scene.seed, STREAM_ORIENTATIONS);
+    let (mut bodies, mut walls) = match spec.kind {
+        SampleKind::Random => random_sample(scene, cfg, progress)?,
+        SampleKind::SimpleCubic | SampleKind::Hcp => {
+            let r = spec.radius_mean.expect("validated");
+            let layers = spec.layers.expect("validated");
+            let (pos, size) = if spec.kind == SampleKind::Hcp {
+                hcp_positions(r, layers)
+            } else {
+                simple_cubic_positions(r, layers)
+            };
+            let mut b = Bodies::default();
+            for p in pos {
+                b.push_sphere(p, r, rho, UnitQuaternion::identity());
+            }
+            (b, Walls::new_box(Vec3::zeros(), size))
+        }
+        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => {
+            let file = spec.file.as_deref().expect("validated");
+            let path = scene.resolve(file);
+            let packing = if spec.kind == SampleKind::LammpsData {
+                read_lammps_data(&path)
+            } else {
+                read_text_packing(&path)
+            }
+            .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
+            let mut b = Bodies::default();
+            for (p, r) in packing.spheres {
+                b.push_sphere(p, r, rho, UnitQuaternion::identity());
+            }
+            for (i, v) in packing.velocities {
+                if i < b.len() {
+                    b.vel[i] = v;
+                }
+            }
+            // The file's own box first (docs/scenes.md): it is exact data, `box` a fallback.
+            let (lo, hi) = match (packing.bounds, spec.box_size) {
+                (Some(bounds), _) => bounds,
+                (None, Some(size)) => (Vec3::zeros(), Vec3::from(size)),
+                (None, None) => bounding_box(&b),
+            };
+            (b, Walls::new_box(lo, hi))
+        }
+        SampleKind::Single => single_grain(scene, cfg, &mut orient)?,
+    };
+    let default_orientations = if spec.kind == SampleKind::Random {
+        Orientations::Random
+    } else {
+        Orientations::Aligned
+    };
+    if spec.kind != SampleKind::Single
+        && spec.orientations.unwrap_or(default_orientations) == Orientations::Random
+    {
+        for q in &mut bodies.orientation {
+            *q = random_orientation(&mut orient);
+        }
+    }
+    if spec.shape == Some(GrainShape::PolyEllipsoid) {
+        bodies = poly_ellipsoids_in_spheres(scene, cfg, &bodies);
+    }
+    let mut compaction_steps = 0;
+    if let Some(p) = spec.pressure {
+        let m = &cfg.material;
+        let spec = CompactionSpec {
+            young: m.young,
+            poisson: m.poisson(),
+            density: m.density,
+            skin: cfg.neighbor.skin,
+            pressure: p,
+            friction: spec.compaction_friction.unwrap_or(m.friction),
+        };
+        let report = compact_to_pressure(&mut bodies, &mut walls, &spec, progress)?;
+        compaction_steps = report.steps;
+    }
+    let size = walls.box_size();
+    let info = SampleInfo {
+        kind: spec.kind.as_str().to_string(),
+        count: bodies.len(),
+        box_size: size.into(),
+        solid_fraction: bodies.solid_volume() / (size.x * size.y * size.z),
+        compaction_steps,
+    };
+    Ok(Sample {
+        bodies,
+        walls,
+        info,
+    })
+}
+
+/// The radius bounds of a random sample: the scene's, or mean ± 3 sd (at least 1% of the
+/// mean).
+pub fn radius_bounds(cfg: &GranularScene) -> (f64, f64, f64, f64) {
+    let s = &cfg.sample;
+    let mean = s.radius_mean.expect("validated");
+    let sd = s.radius_sd.unwrap_or(0.0);
+    let min = s.radius_min.unwrap_or((mean - 3.0 * sd).max(0.01 * mean));
+    let max = s.radius_max.unwrap_or(mean + 3.0 * sd);
+    (mean, sd, min, max)
+}
+
+fn random_sample(
+    scene: &Scene,
+    cfg: &GranularScene,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<(Bodies, Walls)> {
+    let s = &cfg.sample;
+    let (mean, sd, min, max) = radius_bounds(cfg);
+    let mut size = Vec3::from(s.box_size.expect("validated"));
+    let box_volume = size.x * size.y * size.z;
+    let mut rng = stream(scene.seed, STREAM_RADII);
+    let radii = match (s.count, s.solid_fraction) {
+        (Some(n), _) => truncated_normal_radii(&mut rng, mean, sd, min, max, |k, _| k < n),
+        (None, Some(phi)) => {
+            truncated_normal_radii(&mut rng, mean, sd, min, max, |_, v| v < phi * box_volume)
+        }
+        (None, None) => {
+            return Err(scene.key_error(
+                "sample.count",
+                "or sample.solid_fraction is required for sample.kind = \"random\"",
+            ));
+        }
+    };
+    let solid: f64 = radii.iter().map(|&r| sphere_volume(r)).sum();
+    if let (Some(_), Some(phi)) = (s.count, s.solid_fraction) {
+        // Both a count and a fraction: keep the box's shape, scale it to the fraction.
+        size *= (solid / phi / box_volume).cbrt();
+    }
+    let phi = solid / (size.x * size.y * size.z);
+    if phi > 0.65 {
+        return Err(scene.key_error(
+            "sample.count",
+            format!(
+                "gives a solid fraction of {phi:.3} in the box, above the 0.65 a random packing can reach; lower sample.count or enlarge sample.box"
+            ),
+        ));
+    }
+    let rmax = radii.iter().copied().fold(0.0, f64::max);
+    if (0..3).any(|a| size[a] <= 2.0 * rmax) {
+        return Err(scene.key_error(
+            "sample.box",
+            format!(
+                "is too small for the largest sphere (radius {rmax:e} m): each edge must exceed its diameter"
+            ),
+        ));
+    }
+    progress(&format!(
+        "packing {} spheres at solid fraction {phi:.3}",
+        radii.len()
+    ));
+    let mut prng = stream(scene.seed, STREAM_POSITIONS);
+    let (pos, report) = pack_geometric(&radii, Vec3::zeros(), size, &mut prng)
+        .map_err(|m| scene.key_error("sample.solid_fraction", m))?;
+    progress(&format!(
+        "packed in {} relaxation sweeps, largest overlap {:.2e} of a radius",
+        report.sweeps, report.max_overlap
+    ));
+    let mut b = Bodies::default();
+    for (p, r) in pos.into_iter().zip(radii) {
+        b.push_sphere(p, r, cfg.material.density, UnitQuaternion::identity());
+    }
+    // Random indices would scatter neighbours over memory: number the spheres by position.
+    let order = b.spatial_order(2.0 * rmax);
+    b.reorder(&order);
+    Ok((b, Walls::new_box(Vec3::zeros(), size)))
+}
+
+/// The sample of a granular scene (its section read from the scene).
+pub fn from_scene(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Sample> {
+    let cfg: GranularScene = scene.section()?;
+    build(scene, &cfg, progress)
+}

@@ -1,0 +1,528 @@
+//! What every model's run shares, written once: the clock, advancing by steps or to a time,
+//! the output cadence, the finiteness watchdog, series rows, checkpoints and the thread pool.
+//!
+//! A model ([`Model`]) supplies its physics (build, one step, hooks at output steps), its
+//! series row, summary and snapshot; [`Runner`] drives any model and implements [`Run`], the
+//! interface of the driver, the CLI, the C ABI and checkpoints. The registry
+//! (`crate::models`) picks the model from `model.kind`.
+//!
+//! ```text
+//! advance:   while step < target and the model has not stopped:
+//!              model.step(clock, dt)          the physics of one step
+//!              clock: step + 1, time + dt
+//!              model.after_step(clock)        e.g. granular fracture, which may shorten dt
+//!              at output steps (every `output.every`, the last, and those the model asks):
+//!                finite? -> model.at_output -> series row -> model.after_row
+//! ```
+
+use std::sync::Arc;
+
+use serde::{Deserialize, Serialize};
+use serde_json::{Map, Value, json};
+
+use crate::error::{Error, Result};
+use crate::parallel::{on_threads, thread_pool};
+use crate::probe::Series;
+use crate::scene::Scene;
+use crate::state::Vec3;
+
+/// Where a run is in time.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Clock {
+    /// Time (s).
+    pub time: f64,
+    /// Steps taken.
+    pub step: u64,
+    /// Time step (s).
+    pub dt: f64,
+    /// The step at which the run ends (`u64::MAX`: driven from outside, no end of its own).
+    pub end_step: u64,
+}
+
+/// The step at which a loading of `end_time` seconds ends (unbounded for an endless one).
+pub fn end_step(end_time: f64, dt: f64) -> u64 {
+    if end_time.is_finite() {
+        (end_time / dt - 1e-9).ceil().max(1.0) as u64
+    } else {
+        u64::MAX
+    }
+}
+
+/// A model as built from its scene, with what the runner needs to start it.
+pub struct Built<M> {
+    pub model: M,
+    /// Time step (s) and the step at which the run ends.
+    pub dt: f64,
+    pub end_step: u64,
+    /// The columns of series.csv.
+    pub columns: Vec<&'static str>,
+    /// Warnings found while building.
+    pub warnings: Vec<String>,
+}
+
+/// What a model's summary may read besides the model.
+pub struct RunInfo<'a> {
+    pub scene: &'a Scene,
+    pub clock: &'a Clock,
+    pub series: &'a Series,
+}
+
+/// The top (z+) and bottom (z-) faces of a box that a host drives from outside (the SHPB
+/// bars of the FMU and the C ABI). Only models with such faces have them.
+pub trait Faces {
+    /// Drives the faces from now on at `top` and `bottom` m/s into the sample (compression
+    /// positive). Use [`Run::set_face_speeds`], which also lifts the run's end.
+    fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()>;
+    /// Compressive normal force (N) on the top and bottom faces.
+    fn face_forces(&self) -> (f64, f64);
+    /// Compressive normal stress (Pa) on the top and bottom faces.
+    fn face_stresses(&self) -> (f64, f64);
+    /// Area (m²) of the top and bottom faces.
+    fn face_area(&self) -> f64;
+}
+
+/// A model's physics, as the runner drives it. Everything about time, outputs and
+/// checkpoints is the runner's.
+pub trait Model: Send + Sized {
+    /// `model.kind` of its scenes.
+    const KIND: &'static str;
+    /// What one body is called in messages ("body", "element", "polygon").
+    const BODY: &'static str;
+
+    /// Builds the model a scene describes (runs on the run's threads).
+    fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>>;
+    /// The model's own persistent state, for a checkpoint.
+    fn save(&self) -> Vec<u8>;
+    /// The model rebuilt from its scene and the bytes [`Model::save`] wrote.
+    fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self>;
+
+    /// Number of bodies (particles, elements, polygons).
+    fn bodies(&self) -> usize;
+    /// One step of `dt` from `clock` (the clock is advanced by the runner afterwards).
+    fn step(&mut self, clock: &Clock, dt: f64);
+    /// After the clock has moved: work that needs the new time and may change the step or
+    /// the end (granular fracture).
+    fn after_step(&mut self, _clock: &mut Clock, _dt: f64) {}
+    /// True once the model has ended the run early (failure, quiet steps).
+    fn stopped(&self) -> bool {
+        false
+    }
+    /// Output steps of the model's own besides the regular ones (a phase's end).
+    fn output_due(&self, _clock: &Clock) -> bool {
+        false
+    }
+    /// At every output step, once the state is known to be finite and before the row:
+    /// stability checks and step adaptation.
+    fn at_output(
+        &mut self,
+        _scene: &Scene,
+        _clock: &mut Clock,
+        _warn: &mut Vec<String>,
+    ) -> Result<()> {
+        Ok(())
+    }
+    /// The series row now.
+    fn row(&mut self, clock: &Clock) -> Vec<f64>;
+    /// After a row is recorded (stop on failure, switch phases).
+    fn after_row(&mut self, _clock: &Clock, _series: &Series) {}
+    /// The first body whose position or velocity is not finite.
+    fn first_non_finite(&self) -> Option<usize>;
+    /// What to change when the run turned non-finite (one clause).
+    fn instability_hint(&self, scene: &Scene, clock: &Clock) -> String;
+    /// Whether a step may be shortened to land on a requested time.
+    fn variable_step(&self) -> bool {
+        true
+    }
+    /// The model's summary keys, after those every model shares.
+    fn summary(&self, run: &RunInfo, m: &mut Map<String, Value>);
+    /// VTK files of the current state as (stem, .vtu text).
+    fn snapshot(&self) -> Vec<(&'static str, String)>;
+    /// Further result files written at the end, as (file name, content).
+    fn extra_outputs(&self) -> Vec<(String, Vec<u8>)> {
+        Vec::new()
+    }
+    /// A short line for the progress bar.
+    fn status(&self, clock: &Clock) -> String {
+        format!("t = {:.4e} s", clock.time)
+    }
+    /// Body centres (m), velocities (m/s) and orientations (unit quaternions w, x, y, z);
+    /// a 2D model gives z = 0 and rotations about z.
+    fn positions(&self) -> Vec<Vec3>;
+    fn velocities(&self) -> Vec<Vec3>;
+    fn orientations(&self) -> Vec<[f64; 4]>;
+    /// The driven faces, for models that have them.
+    fn faces_mut(&mut self) -> Option<&mut dyn Faces> {
+        None
+    }
+    fn faces(&self) -> Option<&dyn Faces> {
+        None
+    }
+}
+
+/// A run of any model, as the driver, the CLI, the C ABI and checkpoints see it.
+pub trait Run: Send {
+    fn scene(&self) -> &Scene;
+    /// The model's scene name (`model.kind`).
+    fn model(&self) -> &'static str;
+    /// Number of bodies (particles, elements, polygons).
+    fn bodies(&self) -> usize;
+    fn step(&self) -> u64;
+    /// The step at which the run ends.
+    fn end_step(&self) -> u64;
+    /// Time (s).
+    fn time(&self) -> f64;
+    /// Time step (s).
+    fn dt(&self) -> f64;
+    fn threads(&self) -> usize;
+    /// True at the end step or once the model stopped the run.
+    fn finished(&self) -> bool;
+    /// Takes up to `steps` steps (never past the end), recording series rows on the way.
+    fn advance(&mut self, steps: u64) -> Result<()>;
+    /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
+    fn advance_to(&mut self, time: f64) -> Result<()>;
+    /// The rows of series.csv so far.
+    fn series(&self) -> &Series;
+    /// The results so far: identical for identical scenes, seeds, thread counts and builds.
+    fn summary(&self) -> Value;
+    /// VTK files of the current state as (stem, .vtu text); each stem gets its own .pvd index.
+    fn snapshot(&self) -> Vec<(&'static str, String)>;
+    /// Further result files written at the end, as (file name, content).
+    fn extra_outputs(&self) -> Vec<(String, Vec<u8>)>;
+    /// The whole state, for a checkpoint; the registry's `restore` reads it back.
+    fn save_state(&self) -> Vec<u8>;
+    /// A short line for the progress bar (time, strain, ...).
+    fn status(&self) -> String;
+    /// Warnings for the user, in the order they arose.
+    fn warnings(&self) -> &[String];
+    /// Body centres, velocities and orientations (see [`Model::positions`]).
+    fn positions(&self) -> Vec<Vec3>;
+    fn velocities(&self) -> Vec<Vec3>;
+    fn orientations(&self) -> Vec<[f64; 4]>;
+    /// The driven faces, for models that have them (granular samples in a box).
+    fn faces(&self) -> Option<&dyn Faces>;
+    /// Drives the top (z+) and bottom (z-) faces from outside from now on, at `top` and
+    /// `bottom` m/s into the sample (compression positive); the run then has no end of its
+    /// own. Fails for a model without such faces.
+    fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()>;
+}
+
+/// The runner's part of a checkpoint; the model's own bytes ride along.
+#[derive(Serialize, Deserialize)]
+struct RunnerState {
+    clock: Clock,
+    series: Series,
+    warnings: Vec<String>,
+    last_row: Option<u64>,
+    model: Vec<u8>,
+}
+
+/// One generic run over any [`Model`].
+pub struct Runner<M> {
+    pub scene: Scene,
+    pub clock: Clock,
+    pub series: Series,
+    pub warnings: Vec<String>,
+    pub model: M,
+    /// The step of the last series row (rows are recorded once per step at most).
+    last_row: Option<u64>,
+    /// The run's worker threads; `None` runs everything on the caller's thread.
+    pool: Option<Arc<rayon::ThreadPool>>,
+}
+
+impl<M> std::ops::Deref for Runner<M> {
+    type Target = M;
+    fn deref(&self) -> &M {
+        &self.model
+    }
+}
+
+impl<M> std::ops::DerefMut for Runner<M> {
+    fn deref_mut(&mut self) -> &mut M {
+        &mut self.model
+    }
+}
+
+impl<M: Model> Runner<M> {
+    /// Builds the model a scene describes and records the first row. `threads` = 0 uses
+    /// every core.
+    pub fn new(
+        scene: Scene,
+        threads: usize,
+        progress: &mut (dyn FnMut(&str) + Send),
+    ) -> Result<Self> {
+        let pool = thread_pool(threads)?;
+        let built = on_threads(&pool, || M::build(&scene, progress))?;
+        Ok(Runner::start(scene, built, pool))
+    }
+
+    /// Sets a run up on a model built elsewhere.
+    pub fn from_built(scene: Scene, built: Built<M>, threads: usize) -> Result<Self> {
+        Ok(Runner::start(scene, built, thread_pool(threads)?))
+    }
+
+    fn start(scene: Scene, built: Built<M>, pool: Option<Arc<rayon::ThreadPool>>) -> Self {
+        let mut run = Runner {
+            scene,
+            clock: Clock {
+                time: 0.0,
+                step: 0,
+                dt: built.dt,
+                end_step: built.end_step,
+            },
+            series: Series::new(&built.columns),
+            warnings: built.warnings,
+            model: built.model,
+            last_row: None,
+            pool,
+        };
+        run.record_row();
+        run
+    }
+
+    /// Restores a run from the bytes [`Run::save_state`] wrote for this scene.
+    pub fn restore(scene: Scene, bytes: &[u8], threads: usize) -> Result<Self> {
+        let s: RunnerState = postcard::from_bytes(bytes).map_err(|e| {
+            Error::run(format!(
+                "the checkpoint's {} state is damaged ({e})",
+                M::KIND
+            ))
+        })?;
+        let pool = thread_pool(threads)?;
+        let model = on_threads(&pool, || M::restore(&scene, &s.model))?;
+        Ok(Runner {
+            scene,
+            clock: s.clock,
+            series: s.series,
+            warnings: s.warnings,
+            model,
+            last_row: s.last_row,
+            pool,
+        })
+    }
+
+    pub fn threads(&self) -> usize {
+        self.pool.as_ref().map_or(1, |p| p.current_num_threads())
+    }
+
+    /// Runs `f` on the run's threads (or right here without a pool).
+    pub fn on_threads<R: Send>(&mut self, f: impl FnOnce(&mut Self) -> R + Send) -> R {
+        let pool = self.pool.clone();
+        on_threads(&pool, || f(self))
+    }
+
+    pub fn finished(&self) -> bool {
+        self.clock.step >= self.clock.end_step || self.model.stopped()
+    }
+
+    /// Takes up to `steps` steps (never past the end), recording series rows on the way.
+    /// Fails when the state stops being finite.
+    pub fn advance(&mut self, steps: u64) -> Result<()> {
+        let target = self
+            .clock
+            .step
+            .saturating_add(steps)
+            .min(self.clock.end_step);
+        self.on_threads(|run| {
+            while run.clock.step < target && !run.model.stopped() {
+                run.step_by(run.clock.dt);
+                run.after_step()?;
+            }
+            Ok(())
+        })
+    }
+
+    /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
+    /// The step size, not the distance to `time`, sets the accuracy. Series rows are recorded
+    /// as in [`Runner::advance`].
+    pub fn advance_to(&mut self, time: f64) -> Result<()> {
+        if !time.is_finite() || time < self.clock.time {
+            return Err(Error::run(format!(
+                "cannot advance to t = {time:e} s from t = {:e} s",
+                self.clock.time
+            )));
+        }
+        self.on_threads(|run| {
+            // A remainder below this is rounding, not a step to take.
+            let tiny = 1e-9 * run.clock.dt;
+            while time - run.clock.time > tiny && !run.model.stopped() {
+                let h = (time - run.clock.time).min(run.clock.dt);
+                if time - run.clock.time - h <= tiny {
+                    let last = time - run.clock.time;
+                    if last != run.clock.dt && !run.model.variable_step() {
+                        return Err(Error::run(format!(
+                            "cannot land on t = {time:e} s: this run's integrator takes whole steps of {:e} s only",
+                            run.clock.dt
+                        )));
+                    }
+                    run.step_by(last);
+                    run.clock.time = time;
+                } else {
+                    run.step_by(h);
+                }
+                run.after_step()?;
+            }
+            Ok(())
+        })
+    }
+
+    /// One step of `dt` (the run's step, or a shorter one that lands on a requested time).
+    fn step_by(&mut self, dt: f64) {
+        self.model.step(&self.clock, dt);
+        self.clock.step += 1;
+        self.clock.time += dt;
+        self.model.after_step(&mut self.clock, dt);
+    }
+
+    /// At output steps: check the state is finite, let the model check its stability, and
+    /// record a series row.
+    fn after_step(&mut self) -> Result<()> {
+        let c = &self.clock;
+        let due = c.step % self.scene.output.every == 0
+            || c.step == c.end_step
+            || self.model.stopped()
+            || self.model.output_due(c);
+        if !due {
+            return Ok(());
+        }
+        if let Some(i) = self.model.first_non_finite() {
+            return Err(Error::run(format!(
+                "the run became unstable at step {} (t = {:e} s): {} {i} has a non-finite position or velocity; {}",
+                self.clock.step,
+                self.clock.time,
+                M::BODY,
+                self.model.instability_hint(&self.scene, &self.clock)
+            )));
+        }
+        self.model
+            .at_output(&self.scene, &mut self.clock, &mut self.warnings)?;
+        self.record_row();
+        self.model.after_row(&self.clock, &self.series);
+        Ok(())
+    }
+
+    fn record_row(&mut self) {
+        if self.last_row == Some(self.clock.step) {
+            return;
+        }
+        self.last_row = Some(self.clock.step);
+        let row = self.model.row(&self.clock);
+        self.series.rows.push(row);
+    }
+}
+
+impl<M: Model> Run for Runner<M> {
+    fn scene(&self) -> &Scene {
+        &self.scene
+    }
+    fn model(&self) -> &'static str {
+        M::KIND
+    }
+    fn bodies(&self) -> usize {
+        self.model.bodies()
+    }
+    fn step(&self) -> u64 {
+        self.clock.step
+    }
+    fn end_step(&self) -> u64 {
+        self.clock.end_step
+    }
+    fn time(&self) -> f64 {
+        self.clock.time
+    }
+    fn dt(&self) -> f64 {
+        self.clock.dt
+    }
+    fn threads(&self) -> usize {
+        Runner::threads(self)
+    }
+    fn finished(&self) -> bool {
+        Runner::finished(self)
+    }
+    fn advance(&mut self, steps: u64) -> Result<()> {
+        Runner::advance(self, steps)
+    }
+    fn advance_to(&mut self, time: f64) -> Result<()> {
+        Runner::advance_to(self, time)
+    }
+    fn series(&self) -> &Series {
+        &self.series
+    }
+    fn summary(&self) -> Value {
+        let mut m = common_summary(self);
+        let info = RunInfo {
+            scene: &self.scene,
+            clock: &self.clock,
+            series: &self.series,
+        };
+        self.model.summary(&info, &mut m);
+        Value::Object(m)
+    }
+    fn snapshot(&self) -> Vec<(&'static str, String)> {
+        self.model.snapshot()
+    }
+    fn extra_outputs(&self) -> Vec<(String, Vec<u8>)> {
+        self.model.extra_outputs()
+    }
+    fn save_state(&self) -> Vec<u8> {
+        let state = RunnerState {
+            clock: self.clock,
+            series: self.series.clone(),
+            warnings: self.warnings.clone(),
+            last_row: self.last_row,
+            model: self.model.save(),
+        };
+        postcard::to_stdvec(&state).expect("the run's state serialises")
+    }
+    fn status(&self) -> String {
+        self.model.status(&self.clock)
+    }
+    fn warnings(&self) -> &[String] {
+        &self.warnings
+    }
+    fn positions(&self) -> Vec<Vec3> {
+        self.model.positions()
+    }
+    fn velocities(&self) -> Vec<Vec3> {
+        self.model.velocities()
+    }
+    fn orientations(&self) -> Vec<[f64; 4]> {
+        self.model.orientations()
+    }
+    fn faces(&self) -> Option<&dyn Faces> {
+        self.model.faces()
+    }
+    fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()> {
+        let faces = self.model.faces_mut().ok_or_else(|| {
+            Error::run(format!(
+                "a {} run has no driven faces: face speeds need a granular sample in a box",
+                M::KIND
+            ))
+        })?;
+        faces.set_face_speeds(top, bottom)?;
+        self.clock.end_step = u64::MAX;
+        Ok(())
+    }
+}
+
+/// The summary keys every model shares: name, model, version, seed, bodies, effects, steps,
+/// time, dt, and warnings when there are any.
+pub fn common_summary(run: &dyn Run) -> Map<String, Value> {
+    let scene = run.scene();
+    let mut m = Map::new();
+    m.insert("name".into(), scene.name.clone().into());
+    m.insert("model".into(), run.model().into());
+    m.insert("fractum_version".into(), env!("CARGO_PKG_VERSION").into());
+    m.insert("seed".into(), scene.seed.into());
+    m.insert("bodies".into(), run.bodies().into());
+    m.insert(
+        "effects".into(),
+        json!(scene.effects.iter().map(|e| e.as_str()).collect::<Vec<_>>()),
+    );
+    m.insert("steps".into(), run.step().into());
+    m.insert("time".into(), run.time().into());
+    m.insert("dt".into(), run.dt().into());
+    if !run.warnings().is_empty() {
+        m.insert("warnings".into(), json!(run.warnings()));
+    }
+    m
+}
