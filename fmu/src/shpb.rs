@@ -293,3 +293,110 @@ impl Model for Shpb {
         Ok(())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The variables of modelDescription.xml: name, value reference, type, start value.
+    fn described() -> Vec<(String, u32, String, Option<String>)> {
+        let xml = include_str!("../modelDescription.xml");
+        xml.split("<ScalarVariable ")
+            .skip(1)
+            .map(|v| {
+                let v = format!(" {}", v.split("</ScalarVariable>").next().unwrap());
+                let attr = |a: &str| {
+                    let rest = v.split(&format!(" {a}=\"")).nth(1)?;
+                    Some(rest.split('"').next()?.to_string())
+                };
+                let kind = ["Real", "Integer", "String", "Boolean"]
+                    .into_iter()
+                    .find(|k| v.contains(&format!("<{k}")))
+                    .unwrap();
+                (
+                    attr("name").unwrap(),
+                    attr("valueReference").unwrap().parse().unwrap(),
+                    kind.to_string(),
+                    attr("start"),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn model_description_matches_the_value_references_and_start_values() {
+        let names = [
+            ("v_incident", vr::V_INCIDENT),
+            ("v_transmitted", vr::V_TRANSMITTED),
+            ("stress_incident", vr::STRESS_INCIDENT),
+            ("stress_transmitted", vr::STRESS_TRANSMITTED),
+            ("force_incident", vr::FORCE_INCIDENT),
+            ("force_transmitted", vr::FORCE_TRANSMITTED),
+            ("bar_stress_incident", vr::BAR_STRESS_INCIDENT),
+            ("bar_stress_transmitted", vr::BAR_STRESS_TRANSMITTED),
+            ("strain", vr::STRAIN),
+            ("kinetic_energy", vr::KINETIC_ENERGY),
+            ("specimen_diameter", vr::SPECIMEN_DIAMETER),
+            ("bar_diameter", vr::BAR_DIAMETER),
+            ("broken_particles", vr::BROKEN_PARTICLES),
+            ("seed", vr::SEED),
+            ("scene", vr::SCENE),
+        ];
+        let vars = described();
+        assert_eq!(vars.len(), names.len());
+        let model = Shpb::default();
+        for (name, r, kind, start) in vars {
+            let known = names.iter().find(|(n, _)| *n == name);
+            assert_eq!(known.map(|k| k.1), Some(r), "{name}");
+            // Each variable reads with its own type, and a start value is the default.
+            match kind.as_str() {
+                "Real" => {
+                    let v = model.real(r).unwrap();
+                    if let Some(s) = start {
+                        assert_eq!(v, s.parse::<f64>().unwrap(), "{name}");
+                    }
+                }
+                "Integer" => {
+                    let v = model.integer(r).unwrap();
+                    if let Some(s) = start {
+                        assert_eq!(v, s.parse::<i32>().unwrap(), "{name}");
+                    }
+                }
+                "String" => assert_eq!(Some(model.string(r).unwrap()), start, "{name}"),
+                other => panic!("{name}: a {other} variable the model does not have"),
+            }
+        }
+        assert_eq!(GUID, {
+            let xml = include_str!("../modelDescription.xml");
+            xml.split("guid=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+        });
+    }
+
+    #[test]
+    fn parameters_are_set_only_before_running_and_outputs_never() {
+        let mut m = Shpb::default();
+        m.set_real(vr::SPECIMEN_DIAMETER, 0.02, Phase::Initialization)
+            .unwrap();
+        assert_eq!(m.real(vr::SPECIMEN_DIAMETER), Ok(0.02));
+        assert_eq!(
+            m.set_real(vr::BAR_DIAMETER, 0.02, Phase::Running),
+            Err("setting a parameter is not allowed in the Running state of the FMU".to_string())
+        );
+        m.set_real(vr::V_INCIDENT, 3.0, Phase::Running).unwrap();
+        assert_eq!(
+            m.set_real(vr::STRESS_INCIDENT, 1.0, Phase::Initialization),
+            Err("2 is not the value reference of a settable Real variable".to_string())
+        );
+        assert_eq!(
+            m.set_real(vr::V_INCIDENT, f64::NAN, Phase::Running),
+            Err("value reference 0: NaN is not a finite number".to_string())
+        );
+        assert!(m.set_integer(vr::SEED, -1, Phase::Instantiated).is_err());
+        assert!(m.set_string(vr::SCENE, None, Phase::Instantiated).is_err());
+    }
+}
