@@ -1,0 +1,402 @@
+//! The SHPB specimen model: what the FMU's variables mean and how they map onto
+//! `fractum::Simulation`. The FMI layer ([`crate::fmi2`]) reaches it only through
+//! [`Model`]; every call into the `fractum` library is here.
+//!
+//! Variables (value references in [`vr`]):
+//! * inputs `v_incident` (m/s, the incident-bar face moving into the specimen, compression
+//!   positive) and `v_transmitted` (m/s, the transmitted-bar face moving along the bar axis,
+//!   away from the specimen): the specimen shortens at `v_incident - v_transmitted`;
+//! * outputs `stress_incident`, `stress_transmitted` (Pa, specimen axial stress at each face,
+//!   compression positive), `force_incident`, `force_transmitted` (N, that stress over the
+//!   specimen cross-section), `bar_stress_incident`, `bar_stress_transmitted` (Pa, the force
+//!   over the bar cross-section), `strain`, `broken_particles`, `kinetic_energy` (J);
+//! * parameters `scene` (a path inside resources/), `specimen_diameter`, `bar_diameter` (m),
+//!   `seed`.
+
+use std::path::Path;
+
+use fractum::{Run, Simulation};
+use serde::{Deserialize, Serialize};
+
+use crate::fmi2::{Failure, Model, Phase, StepError};
+
+/// The GUID of modelDescription.xml; Instantiate refuses any other.
+pub const GUID: &str = "{5f1c6f2e-3b9a-4d57-9c1e-7a2f0d8e4b61}";
+pub const MODEL_IDENTIFIER: &str = "fractum_shpb";
+const DEFAULT_SCENE: &str = "shpb_sand.toml";
+
+/// Value references.
+pub mod vr {
+    pub const V_INCIDENT: u32 = 0;
+    pub const V_TRANSMITTED: u32 = 1;
+    pub const STRESS_INCIDENT: u32 = 2;
+    pub const STRESS_TRANSMITTED: u32 = 3;
+    pub const FORCE_INCIDENT: u32 = 4;
+    pub const FORCE_TRANSMITTED: u32 = 5;
+    pub const BAR_STRESS_INCIDENT: u32 = 6;
+    pub const BAR_STRESS_TRANSMITTED: u32 = 7;
+    pub const STRAIN: u32 = 8;
+    pub const KINETIC_ENERGY: u32 = 9;
+    pub const SPECIMEN_DIAMETER: u32 = 10;
+    pub const BAR_DIAMETER: u32 = 11;
+    /// Integer variables.
+    pub const BROKEN_PARTICLES: u32 = 12;
+    pub const SEED: u32 = 13;
+    /// String variable.
+    pub const SCENE: u32 = 14;
+}
+
+/// Everything a host can set, and the time.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+struct Variables {
+    v_incident: f64,
+    v_transmitted: f64,
+    specimen_diameter: f64,
+    bar_diameter: f64,
+    seed: i32,
+    scene: String,
+    time: f64,
+}
+
+/// The start values of modelDescription.xml.
+impl Default for Variables {
+    fn default() -> Self {
+        Variables {
+            v_incident: 0.0,
+            v_transmitted: 0.0,
+            specimen_diameter: 19.05e-3,
+            bar_diameter: 19.05e-3,
+            seed: 1,
+            scene: DEFAULT_SCENE.to_string(),
+            time: 0.0,
+        }
+    }
+}
+
+/// One SHPB specimen: the variables, and the simulation once initialisation has built it.
+#[derive(Default)]
+pub struct Shpb {
+    vars: Variables,
+    sim: Option<Simulation>,
+}
+
+/// What a saved FMU state holds of the model: the variables and the simulation's own
+/// saved state.
+#[derive(Serialize, Deserialize)]
+pub struct Saved {
+    vars: Variables,
+    sim: Option<Vec<u8>>,
+}
+
+impl Shpb {
+    fn scene_path(&self, resources: &Path) -> Result<std::path::PathBuf, Failure> {
+        let rel = Path::new(&self.vars.scene);
+        if rel.is_absolute()
+            || rel
+                .components()
+                .any(|c| matches!(c, std::path::Component::ParentDir))
+        {
+            return Err(format!(
+                "parameter scene = \"{}\" must be a path inside the FMU's resources folder",
+                self.vars.scene
+            ));
+        }
+        Ok(resources.join(rel))
+    }
+
+    /// The specimen's scene: the `scene` parameter's file with `seed`, no VTK and no series
+    /// rows (the host reads the outputs).
+    fn scene(&self, resources: &Path, seed: i32) -> Result<fractum::Scene, Failure> {
+        let overrides = vec![
+            format!("seed={seed}"),
+            "output.vtk=0".to_string(),
+            "output.every=1000000000".to_string(),
+        ];
+        fractum::Scene::load(&self.scene_path(resources)?, &overrides).map_err(|e| e.to_string())
+    }
+}
+
+impl Model for Shpb {
+    const GUID: &'static str = GUID;
+    const MODEL_IDENTIFIER: &'static str = MODEL_IDENTIFIER;
+    // The Integer and String variables a host can set are all parameters.
+    const SET_REAL_IN: &'static [Phase] =
+        &[Phase::Instantiated, Phase::Initialization, Phase::Running];
+    const SET_INTEGER_IN: &'static [Phase] = &[Phase::Instantiated, Phase::Initialization];
+    const SET_STRING_IN: &'static [Phase] = &[Phase::Instantiated, Phase::Initialization];
+    type Saved = Saved;
+
+    fn time(&self) -> f64 {
+        self.vars.time
+    }
+
+    fn set_time(&mut self, time: f64) {
+        self.vars.time = time;
+    }
+
+    fn build(&mut self, resources: &Path) -> Result<(), Failure> {
+        for (name, d) in [
+            ("specimen_diameter", self.vars.specimen_diameter),
+            ("bar_diameter", self.vars.bar_diameter),
+        ] {
+            if !(d.is_finite() && d > 0.0) {
+                return Err(format!(
+                    "parameter {name} = {d} is outside the allowed range (0, inf) m"
+                ));
+            }
+        }
+        let scene = self.scene(resources, self.vars.seed)?;
+        let mut sim = Simulation::new(scene, 1, &mut |_| {}).map_err(|e| e.to_string())?;
+        sim.set_face_speeds(self.vars.v_incident, -self.vars.v_transmitted)
+            .map_err(|e| e.to_string())?;
+        self.sim = Some(sim);
+        Ok(())
+    }
+
+    fn built(&self) -> String {
+        let n = self.sim.as_ref().map_or(0, |s| s.bodies.len());
+        format!("specimen built: {n} grains")
+    }
+
+    fn real(&self, r: u32) -> Result<f64, Failure> {
+        let v = &self.vars;
+        let area = |d: f64| std::f64::consts::PI * d * d / 4.0;
+        let (top, bottom) = self.sim.as_ref().map_or((0.0, 0.0), |s| s.face_stresses());
+        Ok(match r {
+            vr::V_INCIDENT => v.v_incident,
+            vr::V_TRANSMITTED => v.v_transmitted,
+            vr::SPECIMEN_DIAMETER => v.specimen_diameter,
+            vr::BAR_DIAMETER => v.bar_diameter,
+            vr::STRESS_INCIDENT => top,
+            vr::STRESS_TRANSMITTED => bottom,
+            vr::FORCE_INCIDENT => top * area(v.specimen_diameter),
+            vr::FORCE_TRANSMITTED => bottom * area(v.specimen_diameter),
+            vr::BAR_STRESS_INCIDENT => top * area(v.specimen_diameter) / area(v.bar_diameter),
+            vr::BAR_STRESS_TRANSMITTED => bottom * area(v.specimen_diameter) / area(v.bar_diameter),
+            vr::STRAIN => self.sim.as_ref().map_or(0.0, |s| s.axial_strain()),
+            vr::KINETIC_ENERGY => self.sim.as_ref().map_or(0.0, |s| s.bodies.kinetic_energy()),
+            _ => return Err(format!("{r} is not the value reference of a Real variable")),
+        })
+    }
+
+    fn set_real(&mut self, r: u32, value: f64, phase: Phase) -> Result<(), Failure> {
+        if !value.is_finite() {
+            return Err(format!(
+                "value reference {r}: {value} is not a finite number"
+            ));
+        }
+        let parameter_phases = [Phase::Instantiated, Phase::Initialization];
+        match r {
+            vr::V_INCIDENT => self.vars.v_incident = value,
+            vr::V_TRANSMITTED => self.vars.v_transmitted = value,
+            vr::SPECIMEN_DIAMETER | vr::BAR_DIAMETER => {
+                phase.expect(&parameter_phases, "setting a parameter")?;
+                if r == vr::SPECIMEN_DIAMETER {
+                    self.vars.specimen_diameter = value;
+                } else {
+                    self.vars.bar_diameter = value;
+                }
+            }
+            _ => {
+                return Err(format!(
+                    "{r} is not the value reference of a settable Real variable"
+                ));
+            }
+        }
+        if let Some(sim) = &mut self.sim {
+            sim.set_face_speeds(self.vars.v_incident, -self.vars.v_transmitted)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    fn integer(&self, r: u32) -> Result<i32, Failure> {
+        Ok(match r {
+            vr::SEED => self.vars.seed,
+            vr::BROKEN_PARTICLES => self.sim.as_ref().map_or(0, |s| s.broken_particles() as i32),
+            _ => {
+                return Err(format!(
+                    "{r} is not the value reference of an Integer variable"
+                ));
+            }
+        })
+    }
+
+    fn set_integer(&mut self, r: u32, value: i32, _phase: Phase) -> Result<(), Failure> {
+        match r {
+            vr::SEED if value >= 0 => self.vars.seed = value,
+            vr::SEED => {
+                return Err(format!(
+                    "parameter seed = {value} is outside the allowed range [0, inf)"
+                ));
+            }
+            _ => {
+                return Err(format!(
+                    "{r} is not the value reference of a settable Integer variable"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn string(&self, r: u32) -> Result<String, Failure> {
+        if r != vr::SCENE {
+            return Err(format!(
+                "{r} is not the value reference of a String variable"
+            ));
+        }
+        Ok(self.vars.scene.clone())
+    }
+
+    fn set_string(&mut self, r: u32, value: Option<String>, _phase: Phase) -> Result<(), Failure> {
+        if r != vr::SCENE {
+            return Err(format!(
+                "{r} is not the value reference of a String variable"
+            ));
+        }
+        self.vars.scene = value.ok_or("the scene string is a null pointer")?;
+        Ok(())
+    }
+
+    fn do_step(&mut self, current: f64, h: f64) -> Result<(), StepError> {
+        let now = self.vars.time;
+        let sim = self.sim.as_mut().ok_or_else(|| {
+            StepError::Refused("no specimen: initialisation did not finish".into())
+        })?;
+        // The specimen's own clock starts at 0 when the experiment starts.
+        let target = (current + h) - (now - sim.time);
+        sim.advance_to(target)
+            .map_err(|e| StepError::Failed(e.to_string()))?;
+        self.vars.time = current + h;
+        Ok(())
+    }
+
+    fn save(&self) -> Saved {
+        Saved {
+            vars: self.vars.clone(),
+            sim: self.sim.as_ref().map(|s| s.save_state()),
+        }
+    }
+
+    fn restore(&mut self, saved: &Saved, resources: &Path) -> Result<(), Failure> {
+        self.sim = match (&saved.sim, &self.sim) {
+            (None, _) => None,
+            (Some(bytes), Some(current)) => Some(
+                Simulation::restore(current.scene.clone(), bytes, 1).map_err(|e| e.to_string())?,
+            ),
+            (Some(bytes), None) => Some(
+                Simulation::restore(self.scene(resources, saved.vars.seed)?, bytes, 1)
+                    .map_err(|e| e.to_string())?,
+            ),
+        };
+        self.vars = saved.vars.clone();
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The variables of modelDescription.xml: name, value reference, type, start value.
+    fn described() -> Vec<(String, u32, String, Option<String>)> {
+        let xml = include_str!("../modelDescription.xml");
+        xml.split("<ScalarVariable ")
+            .skip(1)
+            .map(|v| {
+                let v = format!(" {}", v.split("</ScalarVariable>").next().unwrap());
+                let attr = |a: &str| {
+                    let rest = v.split(&format!(" {a}=\"")).nth(1)?;
+                    Some(rest.split('"').next()?.to_string())
+                };
+                let kind = ["Real", "Integer", "String", "Boolean"]
+                    .into_iter()
+                    .find(|k| v.contains(&format!("<{k}")))
+                    .unwrap();
+                (
+                    attr("name").unwrap(),
+                    attr("valueReference").unwrap().parse().unwrap(),
+                    kind.to_string(),
+                    attr("start"),
+                )
+            })
+            .collect()
+    }
+
+    #[test]
+    fn model_description_matches_the_value_references_and_start_values() {
+        let names = [
+            ("v_incident", vr::V_INCIDENT),
+            ("v_transmitted", vr::V_TRANSMITTED),
+            ("stress_incident", vr::STRESS_INCIDENT),
+            ("stress_transmitted", vr::STRESS_TRANSMITTED),
+            ("force_incident", vr::FORCE_INCIDENT),
+            ("force_transmitted", vr::FORCE_TRANSMITTED),
+            ("bar_stress_incident", vr::BAR_STRESS_INCIDENT),
+            ("bar_stress_transmitted", vr::BAR_STRESS_TRANSMITTED),
+            ("strain", vr::STRAIN),
+            ("kinetic_energy", vr::KINETIC_ENERGY),
+            ("specimen_diameter", vr::SPECIMEN_DIAMETER),
+            ("bar_diameter", vr::BAR_DIAMETER),
+            ("broken_particles", vr::BROKEN_PARTICLES),
+            ("seed", vr::SEED),
+            ("scene", vr::SCENE),
+        ];
+        let vars = described();
+        assert_eq!(vars.len(), names.len());
+        let model = Shpb::default();
+        for (name, r, kind, start) in vars {
+            let known = names.iter().find(|(n, _)| *n == name);
+            assert_eq!(known.map(|k| k.1), Some(r), "{name}");
+            // Each variable reads with its own type, and a start value is the default.
+            match kind.as_str() {
+                "Real" => {
+                    let v = model.real(r).unwrap();
+                    if let Some(s) = start {
+                        assert_eq!(v, s.parse::<f64>().unwrap(), "{name}");
+                    }
+                }
+                "Integer" => {
+                    let v = model.integer(r).unwrap();
+                    if let Some(s) = start {
+                        assert_eq!(v, s.parse::<i32>().unwrap(), "{name}");
+                    }
+                }
+                "String" => assert_eq!(Some(model.string(r).unwrap()), start, "{name}"),
+                other => panic!("{name}: a {other} variable the model does not have"),
+            }
+        }
+        assert_eq!(GUID, {
+            let xml = include_str!("../modelDescription.xml");
+            xml.split("guid=\"")
+                .nth(1)
+                .unwrap()
+                .split('"')
+                .next()
+                .unwrap()
+        });
+    }
+
+    #[test]
+    fn parameters_are_set_only_before_running_and_outputs_never() {
+        let mut m = Shpb::default();
+        m.set_real(vr::SPECIMEN_DIAMETER, 0.02, Phase::Initialization)
+            .unwrap();
+        assert_eq!(m.real(vr::SPECIMEN_DIAMETER), Ok(0.02));
+        assert_eq!(
+            m.set_real(vr::BAR_DIAMETER, 0.02, Phase::Running),
+            Err("setting a parameter is not allowed in the Running state of the FMU".to_string())
+        );
+        m.set_real(vr::V_INCIDENT, 3.0, Phase::Running).unwrap();
+        assert_eq!(
+            m.set_real(vr::STRESS_INCIDENT, 1.0, Phase::Initialization),
+            Err("2 is not the value reference of a settable Real variable".to_string())
+        );
+        assert_eq!(
+            m.set_real(vr::V_INCIDENT, f64::NAN, Phase::Running),
+            Err("value reference 0: NaN is not a finite number".to_string())
+        );
+        assert!(m.set_integer(vr::SEED, -1, Phase::Instantiated).is_err());
+        assert!(m.set_string(vr::SCENE, None, Phase::Instantiated).is_err());
+    }
+}
