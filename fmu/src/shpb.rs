@@ -15,7 +15,8 @@
 
 use std::path::Path;
 
-use fractum::{Run, Simulation};
+use fractum::Run;
+use fractum::models::granular::{Faces, Simulation};
 use serde::{Deserialize, Serialize};
 
 use crate::fmi2::{Failure, Model, Phase, StepError};
@@ -264,7 +265,7 @@ impl Model for Shpb {
             StepError::Refused("no specimen: initialisation did not finish".into())
         })?;
         // The specimen's own clock starts at 0 when the experiment starts.
-        let target = (current + h) - (now - sim.time);
+        let target = (current + h) - (now - sim.clock.time);
         sim.advance_to(target)
             .map_err(|e| StepError::Failed(e.to_string()))?;
         self.vars.time = current + h;
