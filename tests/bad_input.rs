@@ -233,3 +233,54 @@ fn beam2d_combinations_that_do_not_go_together() {
     let t = replace(&base(), "poisson = 0.17\n", "");
     fails(&t, &[], &["material.poisson", "required", "granular"]);
 }
+
+/// A key of another model is refused by name, naming the model that has it and the keys
+/// this scene's model allows; the shipped scenes of each model are checked both ways.
+#[test]
+fn key_of_another_model() {
+    let t = replace(
+        &base(),
+        "kind = \"oedometer\"",
+        "kind = \"oedometer\"\narc_degrees = 20.0",
+    );
+    fails(
+        &t,
+        &[],
+        &[
+            "`loading.arc_degrees`",
+            "model.kind = \"dlsm\"",
+            "model.kind = \"granular\"",
+            "allowed keys: kind, strain_rate",
+        ],
+    );
+    fails(
+        &base(),
+        &["--set", "fragments.bins_per_decade=4"],
+        &["`fragments`", "model.kind = \"beam2d\"", "--set"],
+    );
+    for (scene, key, owner) in [
+        ("brazilian.toml", "sample.count=10", "granular"),
+        ("explosion_disc.toml", "loading.arc_degrees=20", "dlsm"),
+        ("dlsm_tensile.toml", "material.beam_young=1e9", "beam2d"),
+    ] {
+        let text = std::fs::read_to_string(common::repo().join("scenes").join(scene)).unwrap();
+        let key_name = key.split('=').next().unwrap();
+        fails(
+            &text,
+            &["--set", key],
+            &[
+                &format!("`{key_name}`"),
+                &format!("model.kind = \"{owner}\""),
+            ],
+        );
+    }
+}
+
+#[test]
+fn unknown_model() {
+    fails(
+        &base(),
+        &["--set", "model.kind=lattice"],
+        &["model.kind", "\"lattice\"", "granular, dlsm, beam2d"],
+    );
+}

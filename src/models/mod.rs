@@ -8,38 +8,33 @@ pub mod granular;
 
 use std::path::Path;
 
-use serde::de::DeserializeOwned;
-
 use crate::error::{Error, Result};
 use crate::run::{Model, Run, Runner};
-use crate::scene::{COMMON_KEYS, Scene, describe};
-
-/// What the registry needs of a model besides [`Model`]: its typed scene section, the check
-/// of its keys' values, and its explanation.
-pub trait Registered: Model + 'static {
-    /// The model's own tables of a scene.
-    type Section: DeserializeOwned;
-    /// Range checks and what goes with what, once the section has been read.
-    fn validate(scene: &Scene, section: &Self::Section) -> Result<()>;
-    /// `fractum explain`: what the scene builds, without building it.
-    fn explain(scene: &Scene) -> Result<String>;
-}
+use crate::scene::{COMMON_KEYS, EffectKind, IntegratorKind, Scene, describe};
 
 /// One row of the registry: a model's `model.kind` and what the registry does with it.
 struct Entry {
     kind: &'static str,
+    effects: &'static [EffectKind],
+    integrators: &'static [IntegratorKind],
+    shared_keys: &'static [&'static str],
     check: fn(&Scene) -> Result<()>,
     knows: fn(&toml::Table) -> bool,
+    knows_value: fn(&toml::Table) -> bool,
     build: fn(Scene, usize, &mut (dyn FnMut(&str) + Send)) -> Result<Box<dyn Run>>,
     restore: fn(Scene, &[u8], usize) -> Result<Box<dyn Run>>,
     explain: fn(&Scene) -> Result<String>,
 }
 
-const fn entry<M: Registered>() -> Entry {
+const fn entry<M: Model + 'static>() -> Entry {
     Entry {
         kind: M::KIND,
+        effects: M::EFFECTS,
+        integrators: M::INTEGRATORS,
+        shared_keys: M::SHARED_KEYS,
         check: check::<M>,
         knows: knows::<M>,
+        knows_value: knows_value::<M>,
         build: |scene, threads, progress| Ok(Box::new(Runner::<M>::new(scene, threads, progress)?)),
         restore: |scene, bytes, threads| Ok(Box::new(Runner::<M>::restore(scene, bytes, threads)?)),
         explain: M::explain,
@@ -70,9 +65,98 @@ fn model_of(scene: &Scene) -> Result<&'static Entry> {
         })
 }
 
+/// The other models that have what `has` asks about, as `"a" and "b"`.
+fn others(kind: &str, has: impl Fn(&Entry) -> bool) -> Option<String> {
+    let owners: Vec<&str> = MODELS
+        .iter()
+        .filter(|e| e.kind != kind && has(e))
+        .map(|e| e.kind)
+        .collect();
+    (!owners.is_empty()).then(|| format!("model.kind = \"{}\"", owners.join("\" and \"")))
+}
+
+/// The shared keys against what model `M` has: the kinds of its sample and loading, its
+/// effects, its integrators and the model-specific shared keys. What belongs to another
+/// model is refused naming that model.
+fn check_shared<M: Model + 'static>(scene: &Scene) -> Result<()> {
+    let here = format!("model.kind = \"{}\"", M::KIND);
+    for key in ["sample.kind", "loading.kind"] {
+        let Some(value) = lookup(&scene.tables, key) else {
+            continue; // missing: the section says so
+        };
+        let table = single_key(&scene.tables, key);
+        if knows_value::<M>(&table) {
+            continue;
+        }
+        if let Some(owner) = others(M::KIND, |e| (e.knows_value)(&table)) {
+            let allowed =
+                serde_path_to_error::deserialize::<_, M::Section>(toml::Value::Table(table))
+                    .err()
+                    .and_then(|e| {
+                        let m = e.inner().message().to_string();
+                        m.split_once("expected ")
+                            .map(|(_, tail)| tail.replace('`', ""))
+                    })
+                    .map(|a| format!("; allowed values: {}", a.trim_start_matches("one of ")))
+                    .unwrap_or_default();
+            return Err(scene.key_error(
+                key,
+                format!("= {value} belongs to {owner}, not to this scene's {here}{allowed}"),
+            ));
+        }
+    }
+    for e in &scene.effects {
+        if !M::EFFECTS.contains(e) {
+            let owner = others(M::KIND, |m| m.effects.contains(e))
+                .map(|o| format!(" (an effect of {o})"))
+                .unwrap_or_default();
+            let allowed: Vec<&str> = M::EFFECTS.iter().map(|e| e.as_str()).collect();
+            return Err(scene.key_error(
+                "effects",
+                format!(
+                    "lists \"{}\"{owner}, which {here} does not have; its effects: {}",
+                    e.as_str(),
+                    allowed.join(", ")
+                ),
+            ));
+        }
+    }
+    let integrator = scene.time.integrator;
+    if !M::INTEGRATORS.contains(&integrator) {
+        let owner = others(M::KIND, |m| m.integrators.contains(&integrator))
+            .map(|o| format!(" is available to {o} only, not to {here}"))
+            .unwrap_or_default();
+        let allowed: Vec<&str> = M::INTEGRATORS.iter().map(|i| i.as_str()).collect();
+        return Err(scene.key_error(
+            "time.integrator",
+            format!(
+                "= \"{}\"{owner}; allowed values: {}",
+                integrator.as_str(),
+                allowed.join(", ")
+            ),
+        ));
+    }
+    for (key, given) in [
+        ("time.phi", scene.time.phi.is_some()),
+        (
+            "output.report_strains",
+            scene.output.report_strains.is_some(),
+        ),
+    ] {
+        if given && !M::SHARED_KEYS.contains(&key) {
+            let owner = others(M::KIND, |m| m.shared_keys.contains(&key))
+                .map(|o| format!("is a key of {o}, not of this scene's {here}"))
+                .unwrap_or_else(|| format!("is not a key of {here}"));
+            return Err(scene.key_error(key, owner));
+        }
+    }
+    Ok(())
+}
+
 /// Reads the scene's own tables into the model's section and checks them. A key that the
 /// model does not have is refused by name, with the model that has it when another does.
-fn check<M: Registered>(scene: &Scene) -> Result<()> {
+fn check<M: Model + 'static>(scene: &Scene) -> Result<()> {
+    check_shared::<M>(scene)?;
     let section: M::Section = scene.section_or_path().map_err(|(path, message)| {
         let text = describe(&path, &message, &scene.source.overridden);
         let Some(field) = message
@@ -113,22 +197,27 @@ fn check<M: Registered>(scene: &Scene) -> Result<()> {
     M::validate(scene, &section)
 }
 
+/// The value at `key` (a dotted path) in `tables`.
+fn lookup<'a>(tables: &'a toml::Table, key: &str) -> Option<&'a toml::Value> {
+    let (parents, last) = match key.rsplit_once('.') {
+        Some((p, l)) => (Some(p), l),
+        None => (None, key),
+    };
+    let mut node = tables;
+    for p in parents.into_iter().flat_map(|p| p.split('.')) {
+        node = node.get(p)?.as_table()?;
+    }
+    node.get(last)
+}
+
 /// The table holding only `key` (a dotted path) with its value from `tables`.
 fn single_key(tables: &toml::Table, key: &str) -> toml::Table {
-    let parts: Vec<&str> = key.split('.').collect();
-    let mut value = None;
-    let mut node = Some(tables);
-    for (k, p) in parts.iter().enumerate() {
-        let v = node.and_then(|t| t.get(*p));
-        if k + 1 == parts.len() {
-            value = v.cloned();
-        }
-        node = v.and_then(|v| v.as_table());
-    }
-    let mut out = value.unwrap_or(toml::Value::Boolean(false));
-    for p in parts.iter().rev() {
+    let mut out = lookup(tables, key)
+        .cloned()
+        .unwrap_or(toml::Value::Boolean(false));
+    for p in key.rsplit('.') {
         let mut t = toml::Table::new();
-        t.insert((*p).to_string(), out);
+        t.insert(p.to_string(), out);
         out = toml::Value::Table(t);
     }
     match out {
@@ -139,10 +228,22 @@ fn single_key(tables: &toml::Table, key: &str) -> toml::Table {
 
 /// Whether `table` (one key path) names a key of model `M`: reading it into the section
 /// fails for anything but an unknown key (a missing key, a wrong type) when the key exists.
-fn knows<M: Registered>(table: &toml::Table) -> bool {
+fn knows<M: Model + 'static>(table: &toml::Table) -> bool {
     match serde_path_to_error::deserialize::<_, M::Section>(toml::Value::Table(table.clone())) {
         Ok(_) => true,
         Err(e) => !e.inner().message().starts_with("unknown field"),
+    }
+}
+
+/// Whether the value in `table` (one key path) is one model `M` accepts there: reading it
+/// fails for anything but an unknown key or value.
+fn knows_value<M: Model + 'static>(table: &toml::Table) -> bool {
+    match serde_path_to_error::deserialize::<_, M::Section>(toml::Value::Table(table.clone())) {
+        Ok(_) => true,
+        Err(e) => {
+            let m = e.inner().message();
+            !(m.starts_with("unknown field") || m.starts_with("unknown variant"))
+        }
     }
 }
 

@@ -17,14 +17,15 @@
 
 use std::sync::Arc;
 
+use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value, json};
 
 use crate::error::{Error, Result};
 use crate::parallel::{on_threads, thread_pool};
 use crate::probe::Series;
-use crate::scene::Scene;
-use crate::state::Vec3;
+use crate::scene::{EffectKind, IntegratorKind, Scene};
+use crate::state::{Bodies, Vec3};
 
 /// Where a run is in time.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -88,6 +89,19 @@ pub trait Model: Send + Sized {
     const KIND: &'static str;
     /// What one body is called in messages ("body", "element", "polygon").
     const BODY: &'static str;
+    /// The model's own tables of a scene (material, sample, loading, ...), typed; keys of
+    /// other models are refused when they are read (see [`Scene::section`]).
+    type Section: DeserializeOwned;
+    /// The effects, integrators and shared model-specific keys (`time.phi`,
+    /// `output.report_strains`) the model has; the registry refuses the others by name.
+    const EFFECTS: &'static [EffectKind];
+    const INTEGRATORS: &'static [IntegratorKind];
+    const SHARED_KEYS: &'static [&'static str];
+
+    /// Range checks and what goes with what, once the section has been read.
+    fn validate(scene: &Scene, section: &Self::Section) -> Result<()>;
+    /// `fractum explain`: what the scene builds, without building it.
+    fn explain(scene: &Scene) -> Result<String>;
 
     /// Builds the model a scene describes (runs on the run's threads).
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>>;
@@ -145,11 +159,24 @@ pub trait Model: Send + Sized {
     fn status(&self, clock: &Clock) -> String {
         format!("t = {:.4e} s", clock.time)
     }
+    /// The bodies of a model whose elements are rigid 3D bodies ([`Bodies`]); the per-body
+    /// copies below come from them unless a model gives its own.
+    fn rigid_bodies(&self) -> Option<&Bodies> {
+        None
+    }
     /// Body centres (m), velocities (m/s) and orientations (unit quaternions w, x, y, z);
     /// a 2D model gives z = 0 and rotations about z.
-    fn positions(&self) -> Vec<Vec3>;
-    fn velocities(&self) -> Vec<Vec3>;
-    fn orientations(&self) -> Vec<[f64; 4]>;
+    fn positions(&self) -> Vec<Vec3> {
+        self.rigid_bodies().map_or_else(Vec::new, |b| b.pos.clone())
+    }
+    fn velocities(&self) -> Vec<Vec3> {
+        self.rigid_bodies().map_or_else(Vec::new, |b| b.vel.clone())
+    }
+    fn orientations(&self) -> Vec<[f64; 4]> {
+        self.rigid_bodies().map_or_else(Vec::new, |b| {
+            b.orientation.iter().map(|q| [q.w, q.i, q.j, q.k]).collect()
+        })
+    }
     /// The driven faces, for models that have them.
     fn faces_mut(&mut self) -> Option<&mut dyn Faces> {
         None

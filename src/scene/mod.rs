@@ -353,57 +353,6 @@ impl Scene {
         self.effects.contains(&effect)
     }
 
-    /// The shared keys a model checks against what it has: its effects, its integrators,
-    /// and the shared keys it reads (`time.phi`, `output.report_strains`).
-    pub fn check_model_keys(
-        &self,
-        effects: &[EffectKind],
-        integrators: &[IntegratorKind],
-        shared_keys: &[&str],
-    ) -> Result<()> {
-        let model = &self.model.kind;
-        for e in &self.effects {
-            if !effects.contains(e) {
-                return Err(self.key_error(
-                    "effects",
-                    format!(
-                        "lists \"{}\", which model.kind = \"{model}\" does not have; its effects: {}",
-                        e.as_str(),
-                        effects.iter().map(|e| e.as_str()).collect::<Vec<_>>().join(", ")
-                    ),
-                ));
-            }
-        }
-        if !integrators.contains(&self.time.integrator) {
-            return Err(self.key_error(
-                "time.integrator",
-                format!(
-                    "= \"{}\" is not available to model.kind = \"{model}\"; allowed values: {}",
-                    self.time.integrator.as_str(),
-                    integrators
-                        .iter()
-                        .map(|i| i.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ));
-        }
-        for (key, given) in [
-            ("time.phi", self.time.phi.is_some()),
-            (
-                "output.report_strains",
-                self.output.report_strains.is_some(),
-            ),
-        ] {
-            if given && !shared_keys.contains(&key) {
-                return Err(
-                    self.key_error(key, format!("is not a key of model.kind = \"{model}\""))
-                );
-            }
-        }
-        Ok(())
-    }
-
     /// Refuses `effect` without the `contact` effect it acts on.
     pub fn requires_contact(&self, effect: EffectKind) -> Result<()> {
         if self.has_effect(effect) && !self.has_effect(EffectKind::Contact) {

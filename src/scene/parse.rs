@@ -55,7 +55,8 @@ pub fn describe(path: &str, message: &str, overridden: &[String]) -> String {
         }
     };
     let via = |key: &str| {
-        if overridden.iter().any(|k| k == key) {
+        let under = |k: &String| k == key || k.starts_with(&format!("{key}."));
+        if overridden.iter().any(under) {
             " (given with --set)"
         } else {
             ""

@@ -429,7 +429,20 @@ pub fn averaged_power_law(runs: &[&Beam2dRun]) -> Option<PowerLawFit> {
 
 impl Model for Beam2d {
     const KIND: &'static str = "beam2d";
+    type Section = Beam2dScene;
     const BODY: &'static str = "polygon";
+    const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
+    const INTEGRATORS: &'static [IntegratorKind] =
+        &[IntegratorKind::VelocityVerlet, IntegratorKind::Gear5];
+    const SHARED_KEYS: &'static [&'static str] = &[];
+
+    fn validate(scene: &Scene, section: &Beam2dScene) -> Result<()> {
+        scene::validate(scene, section)
+    }
+
+    fn explain(scene: &Scene) -> Result<String> {
+        explain::explain(scene)
+    }
 
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
         let cfg: Beam2dScene = scene.section()?;
@@ -735,15 +748,5 @@ impl Model for Beam2d {
                 [c, 0.0, 0.0, s]
             })
             .collect()
-    }
-}
-
-impl crate::models::Registered for Beam2d {
-    type Section = Beam2dScene;
-    fn validate(scene: &Scene, section: &Beam2dScene) -> Result<()> {
-        scene::validate(scene, section)
-    }
-    fn explain(scene: &Scene) -> Result<String> {
-        explain::explain(scene)
     }
 }

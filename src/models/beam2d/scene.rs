@@ -6,7 +6,7 @@ use serde::Deserialize;
 use crate::error::Result;
 use crate::sample::lattice2d::Outline;
 use crate::scene::validate::{Range, check, require};
-use crate::scene::{EffectKind, IntegratorKind, NeighborSpec, Scene};
+use crate::scene::{EffectKind, NeighborSpec, Scene};
 
 /// The polygons' material, the beams and their breaking (Eq. 7-13), contact damping
 /// (Eq. 3-4). The polygons are rigid: no Poisson's ratio.
@@ -158,11 +158,6 @@ pub const EFFECTS: [EffectKind; 5] = [
 
 /// Range checks of a beam2d scene.
 pub fn validate(s: &Scene, b: &Beam2dScene) -> Result<()> {
-    s.check_model_keys(
-        &EFFECTS,
-        &[IntegratorKind::VelocityVerlet, IntegratorKind::Gear5],
-        &[],
-    )?;
     s.requires_contact(EffectKind::Damping)?;
     s.requires_contact(EffectKind::Friction)?;
     validate_lattice(s, &b.sample)?;

@@ -338,7 +338,22 @@ impl Dlsm {
 
 impl Model for Dlsm {
     const KIND: &'static str = "dlsm";
+    type Section = DlsmScene;
     const BODY: &'static str = "element";
+    const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
+    const INTEGRATORS: &'static [IntegratorKind] = &[
+        IntegratorKind::VelocityVerlet,
+        IntegratorKind::TchamwaWielgosz,
+    ];
+    const SHARED_KEYS: &'static [&'static str] = &["time.phi"];
+
+    fn validate(scene: &Scene, section: &DlsmScene) -> Result<()> {
+        scene::validate(scene, section)
+    }
+
+    fn explain(scene: &Scene) -> Result<String> {
+        explain::explain(scene)
+    }
 
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
         let cfg: DlsmScene = scene.section()?;
@@ -462,31 +477,8 @@ impl Model for Dlsm {
         )
     }
 
-    fn positions(&self) -> Vec<Vec3> {
-        self.state.bodies.pos.clone()
-    }
-
-    fn velocities(&self) -> Vec<Vec3> {
-        self.state.bodies.vel.clone()
-    }
-
-    fn orientations(&self) -> Vec<[f64; 4]> {
-        self.state
-            .bodies
-            .orientation
-            .iter()
-            .map(|q| [q.w, q.i, q.j, q.k])
-            .collect()
-    }
-}
-
-impl crate::models::Registered for Dlsm {
-    type Section = DlsmScene;
-    fn validate(scene: &Scene, section: &DlsmScene) -> Result<()> {
-        scene::validate(scene, section)
-    }
-    fn explain(scene: &Scene) -> Result<String> {
-        explain::explain(scene)
+    fn rigid_bodies(&self) -> Option<&Bodies> {
+        Some(&self.state.bodies)
     }
 }
 

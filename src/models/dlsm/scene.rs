@@ -187,14 +187,6 @@ pub const EFFECTS: [EffectKind; 4] = [
 
 /// Range checks of a dlsm scene, and what goes with what.
 pub fn validate(s: &Scene, d: &DlsmScene) -> Result<()> {
-    s.check_model_keys(
-        &EFFECTS,
-        &[
-            IntegratorKind::VelocityVerlet,
-            IntegratorKind::TchamwaWielgosz,
-        ],
-        &["time.phi"],
-    )?;
     let m = &d.material;
     check(s, "material.young", m.young, Range::POSITIVE, "Pa")?;
     check(s, "material.poisson", m.poisson, Range::open(-1.0, 0.5), "")?;

@@ -29,10 +29,10 @@ use crate::output::vtk;
 use crate::probe::energy::{EnergyAccount, Mechanical};
 use crate::probe::size_distribution;
 use crate::probe::{self, Series};
-use crate::run::{Built, Clock, Model, RunInfo, Runner, end_step};
 pub use crate::run::Faces;
+use crate::run::{Built, Clock, Model, RunInfo, Runner, end_step};
 use crate::sample::{Sample, SampleInfo};
-use crate::scene::{DtSpec, EffectKind, Scene};
+use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
 use loading::Loading;
 use scene::GranularScene;
@@ -544,7 +544,19 @@ fn axial_stress_column(series: &Series) -> Vec<f64> {
 
 impl Model for Granular {
     const KIND: &'static str = "granular";
+    type Section = GranularScene;
     const BODY: &'static str = "body";
+    const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
+    const INTEGRATORS: &'static [IntegratorKind] = &[IntegratorKind::VelocityVerlet];
+    const SHARED_KEYS: &'static [&'static str] = &["output.report_strains"];
+
+    fn validate(scene: &Scene, section: &GranularScene) -> Result<()> {
+        scene::validate(scene, section)
+    }
+
+    fn explain(scene: &Scene) -> Result<String> {
+        explain::explain(scene)
+    }
 
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
         let cfg: GranularScene = scene.section()?;
@@ -701,21 +713,8 @@ impl Model for Granular {
         )
     }
 
-    fn positions(&self) -> Vec<Vec3> {
-        self.state.bodies.pos.clone()
-    }
-
-    fn velocities(&self) -> Vec<Vec3> {
-        self.state.bodies.vel.clone()
-    }
-
-    fn orientations(&self) -> Vec<[f64; 4]> {
-        self.state
-            .bodies
-            .orientation
-            .iter()
-            .map(|q| [q.w, q.i, q.j, q.k])
-            .collect()
+    fn rigid_bodies(&self) -> Option<&Bodies> {
+        Some(&self.state.bodies)
     }
 
     fn faces_mut(&mut self) -> Option<&mut dyn Faces> {
@@ -780,15 +779,5 @@ impl Runner<Granular> {
     pub fn break_grains(&mut self, breaking: &[crate::fracture::Breaking]) -> usize {
         let (model, clock) = (&mut self.model, &mut self.clock);
         model.break_grains(clock, breaking)
-    }
-}
-
-impl crate::models::Registered for Granular {
-    type Section = GranularScene;
-    fn validate(scene: &Scene, section: &GranularScene) -> Result<()> {
-        scene::validate(scene, section)
-    }
-    fn explain(scene: &Scene) -> Result<String> {
-        explain::explain(scene)
     }
 }

@@ -6,7 +6,7 @@ use serde::Deserialize;
 use crate::error::Result;
 use crate::fracture::FractureSpec;
 use crate::scene::validate::{Range, check, require};
-use crate::scene::{EffectKind, IntegratorKind, NeighborSpec, Scene};
+use crate::scene::{EffectKind, NeighborSpec, Scene};
 
 /// Elastic and contact properties of the grains (and of the walls, which share them).
 #[derive(Debug, Clone, Deserialize)]
@@ -194,11 +194,6 @@ pub const EFFECTS: [EffectKind; 7] = [
 
 /// Range checks of a granular scene: each failure names the key, its value and the range.
 pub fn validate(s: &Scene, g: &GranularScene) -> Result<()> {
-    s.check_model_keys(
-        &EFFECTS,
-        &[IntegratorKind::VelocityVerlet],
-        &["output.report_strains"],
-    )?;
     let m = &g.material;
     check(s, "material.young", m.young, Range::POSITIVE, "Pa")?;
     let nu = require(
