@@ -12,6 +12,11 @@ use crate::error::{Error, Result};
 use crate::run::{Model, Run, Runner};
 use crate::scene::{COMMON_KEYS, EffectKind, IntegratorKind, Scene, describe};
 
+/// A run built or restored by the registry.
+type Built = Result<Box<dyn Run>>;
+/// Where a run being built reports its long stages.
+type Progress<'a> = &'a mut (dyn FnMut(&str) + Send);
+
 /// One row of the registry: a model's `model.kind` and what the registry does with it.
 struct Entry {
     kind: &'static str,
@@ -21,8 +26,8 @@ struct Entry {
     check: fn(&Scene) -> Result<()>,
     knows: fn(&toml::Table) -> bool,
     knows_value: fn(&toml::Table) -> bool,
-    build: fn(Scene, usize, &mut (dyn FnMut(&str) + Send)) -> Result<Box<dyn Run>>,
-    restore: fn(Scene, &[u8], usize) -> Result<Box<dyn Run>>,
+    build: fn(Scene, usize, Progress) -> Built,
+    restore: fn(Scene, &[u8], usize) -> Built,
     explain: fn(&Scene) -> Result<String>,
 }
 

@@ -511,29 +511,6 @@ out.close()
     Ok(s)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn lammps_restitution_gives_back_fractums_damping_coefficient() {
-        for e in [0.2, 0.5, 0.8, 1.0] {
-            let c = damping_for_restitution(e);
-            let e_l = lammps_restitution(c);
-            // LAMMPS coeff_restitution: c = 2 sqrt(5/6) beta, beta = -ln e / sqrt(ln^2 e + pi^2).
-            let l = e_l.ln();
-            let beta = -l / (l * l + std::f64::consts::PI.powi(2)).sqrt();
-            assert!(
-                (2.0 * (5.0_f64 / 6.0).sqrt() * beta - c).abs() < 1e-12,
-                "e = {e}"
-            );
-            // The linear-spring closed form asks LAMMPS for less than the restitution obtained.
-            assert!(e_l <= e);
-        }
-        assert!((lammps_restitution(damping_for_restitution(0.5)) - 0.43629).abs() < 1e-5);
-    }
-}
-
 /// `fractum export lammps|yade`: the scene's sample and a peer-code script that runs it
 /// (`lammps`: packing.data and in.fractum; otherwise packing.txt and fractum_yade.py) in
 /// `dir`. Returns the line that says what was written.
@@ -582,4 +559,27 @@ pub fn export(
         sim.clock.end_step,
         sim.clock.dt
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lammps_restitution_gives_back_fractums_damping_coefficient() {
+        for e in [0.2, 0.5, 0.8, 1.0] {
+            let c = damping_for_restitution(e);
+            let e_l = lammps_restitution(c);
+            // LAMMPS coeff_restitution: c = 2 sqrt(5/6) beta, beta = -ln e / sqrt(ln^2 e + pi^2).
+            let l = e_l.ln();
+            let beta = -l / (l * l + std::f64::consts::PI.powi(2)).sqrt();
+            assert!(
+                (2.0 * (5.0_f64 / 6.0).sqrt() * beta - c).abs() < 1e-12,
+                "e = {e}"
+            );
+            // The linear-spring closed form asks LAMMPS for less than the restitution obtained.
+            assert!(e_l <= e);
+        }
+        assert!((lammps_restitution(damping_for_restitution(0.5)) - 0.43629).abs() < 1e-5);
+    }
 }
