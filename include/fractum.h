@@ -14,14 +14,20 @@ typedef enum FractumStatus {
   FRACTUM_ERR_NULL = 1,
   // The handle is unknown: never created, or already freed.
   FRACTUM_ERR_HANDLE = 2,
-  // Bad input: a scene, a key, a value out of range, a file that cannot be read.
+  // Bad input: a scene, a key, a value out of range, a file that cannot be read, an unknown
+  // series column.
   FRACTUM_ERR_INPUT = 3,
-  // The simulation failed (instability, a state that cannot be restored).
+  // The simulation failed (instability, a state that cannot be restored, a time that a
+  // fixed-step integrator cannot land on).
   FRACTUM_ERR_RUN = 4,
-  // A caller buffer is too small; the needed size is in the last-error message.
+  // A caller buffer is too small; the needed size is in the last-error message (and in
+  // `*needed` for text).
   FRACTUM_ERR_BUFFER = 5,
   // An internal error (a caught panic). The handle should be freed.
   FRACTUM_ERR_INTERNAL = 6,
+  // The call does not apply to this run's model (face calls on a model without driven
+  // faces, radii of a model without grains); the message names the model. Nothing changed.
+  FRACTUM_ERR_MODEL = 7,
 } FractumStatus;
 
 // An opaque simulation handle (0 is never a valid handle).
@@ -31,8 +37,9 @@ typedef uint64_t FractumHandle;
 extern "C" {
 #endif // __cplusplus
 
-// Creates a simulation from a scene file. `overrides` are `count` strings `KEY=VALUE` as for
-// `fractum run --set`; `threads` = 0 uses every core. On success `*handle` is set.
+// Creates a simulation from a scene file, of whatever model its `model.kind` names.
+// `overrides` are `count` strings `KEY=VALUE` as for `fractum run --set`; `threads` = 0 uses
+// every core. On success `*handle` is set.
 enum FractumStatus fractum_create_from_file(const char *path,
                                             const char *const *overrides,
                                             size_t count,
@@ -51,43 +58,102 @@ enum FractumStatus fractum_create_from_text(const char *text,
 // Frees a simulation. The handle is invalid afterwards (using it gives FRACTUM_ERR_HANDLE).
 enum FractumStatus fractum_free(FractumHandle handle);
 
+// The scene's model (`model.kind`: "granular", "dlsm" or "beam2d") into `*kind`: a static
+// string, valid for the life of the process.
+enum FractumStatus fractum_model(FractumHandle handle, const char **kind);
+
+// Takes up to `steps` steps of the run's own time step, never past the scene's end (so
+// `UINT64_MAX` runs to the end; see `fractum_finished`). Series rows are recorded on the way
+// as in `fractum run`: chunking a run into calls does not change it.
+enum FractumStatus fractum_advance(FractumHandle handle, uint64_t steps);
+
 // Advances to exactly `time` (s), sub-stepping at the simulation's own time step and
-// shortening the last sub-step to land on `time`.
+// shortening the last sub-step to land on `time`. A run whose integrator takes whole steps
+// only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN.
 enum FractumStatus fractum_advance_to(FractumHandle handle, double time);
 
+// `*finished` = 1 once the run has reached the scene's end (or the model stopped it, e.g.
+// after failure), else 0. A run whose faces are driven from outside has no end.
+enum FractumStatus fractum_finished(FractumHandle handle, int32_t *finished);
+
+// The time (s).
+enum FractumStatus fractum_time(FractumHandle handle, double *time);
+
+// The number of steps taken.
+enum FractumStatus fractum_steps(FractumHandle handle, uint64_t *steps);
+
+// The run's time step (s); a granular run may shorten it as grains break.
+enum FractumStatus fractum_dt(FractumHandle handle, double *dt);
+
+// The number of bodies (particles, elements or polygons): what the per-body copies need.
+// It can grow between steps (granular grains break).
+enum FractumStatus fractum_bodies(FractumHandle handle, uint64_t *bodies);
+
 // Drives the top (z+) and bottom (z-) faces from now on at `top` and `bottom` m/s into the
-// sample (compression positive). The scene's own loading stops.
+// sample (compression positive). The scene's own loading stops and the run has no end of its
+// own. Granular samples in a box only: FRACTUM_ERR_MODEL on other runs.
 enum FractumStatus fractum_set_face_speeds(FractumHandle handle, double top, double bottom);
 
-// Compressive normal forces (N) on the top (z+) and bottom (z-) faces.
+// Compressive normal forces (N) on the top (z+) and bottom (z-) faces. Granular samples in a
+// box only: FRACTUM_ERR_MODEL on other runs.
 enum FractumStatus fractum_face_forces(FractumHandle handle, double *top, double *bottom);
 
 // Compressive normal stresses (Pa) on the top (z+) and bottom (z-) faces, and their area (m²).
+// Granular samples in a box only: FRACTUM_ERR_MODEL on other runs.
 enum FractumStatus fractum_face_stresses(FractumHandle handle,
                                          double *top,
                                          double *bottom,
                                          double *area);
 
-// Time (s), axial strain (compression positive) and the number of steps taken.
+// Time (s), axial strain and the number of steps taken. The strain is that of a granular
+// box (compression positive; 0 without a box) and NaN for the other models, whose own strain
+// columns `fractum_scalar` reads.
 enum FractumStatus fractum_progress(FractumHandle handle,
                                     double *time,
                                     double *strain,
                                     uint64_t *steps);
 
-// Numbers of bodies and of body–body contacts, and the kinetic energy (J).
+// Numbers of bodies and of body–body contacts, and the kinetic energy (J). Granular runs give
+// the current contacts and energy; the other models those of the last series row (their
+// `contacts` and `kinetic_energy` columns; 0 and NaN when the model records none).
 enum FractumStatus fractum_counts(FractumHandle handle,
                                   uint64_t *bodies,
                                   uint64_t *contacts,
                                   double *kinetic_energy);
 
-// Copies the positions (m) as x0 y0 z0 x1 ... into `buf` of `len` doubles (3 per body).
+// The value of the series column `name` (a column of the run's series.csv, e.g. "stress",
+// "kinetic_energy") in its last row, recorded at the last output step (every `output.every`
+// steps and at the end). An unknown name gives FRACTUM_ERR_INPUT with the columns listed.
+enum FractumStatus fractum_scalar(FractumHandle handle, const char *name, double *value);
+
+// The series columns (those `fractum_scalar` reads) as one comma-separated NUL-terminated
+// text into `buf` of `len` bytes. `*needed` receives the size with the NUL; a short buffer
+// (or `len` = 0 to ask) gives FRACTUM_ERR_BUFFER.
+enum FractumStatus fractum_columns(FractumHandle handle, char *buf, size_t len, size_t *needed);
+
+// The run's summary so far as NUL-terminated JSON text into `buf` of `len` bytes: the keys
+// and numbers of `fractum run`'s summary.json for the same scene and thread count, less
+// `wall_seconds`, in the same (pretty-printed) layout. `*needed` receives the size with the
+// NUL; a short buffer (or `len` = 0 to ask) gives FRACTUM_ERR_BUFFER.
+enum FractumStatus fractum_summary_json(FractumHandle handle,
+                                        char *buf,
+                                        size_t len,
+                                        size_t *needed);
+
+// Copies the positions (m) as x0 y0 z0 x1 ... into `buf` of `len` doubles (3 per body; z = 0
+// for beam2d's 2D polygons).
 enum FractumStatus fractum_copy_positions(FractumHandle handle, double *buf, size_t len);
 
-// Copies the velocities (m/s) as vx0 vy0 vz0 vx1 ... into `buf` of `len` doubles.
+// Copies the velocities (m/s) as vx0 vy0 vz0 vx1 ... into `buf` of `len` doubles (3 per
+// body).
 enum FractumStatus fractum_copy_velocities(FractumHandle handle, double *buf, size_t len);
 
+// Copies the orientations as unit quaternions w0 x0 y0 z0 w1 ... into `buf` of `len` doubles
+// (4 per body; beam2d's polygons turn about z only).
+enum FractumStatus fractum_copy_orientations(FractumHandle handle, double *buf, size_t len);
+
 // Copies the radii (m; the bounding radius of non-spherical bodies) into `buf` of `len`
-// doubles (1 per body).
+// doubles (1 per body). Granular runs only: FRACTUM_ERR_MODEL on other runs.
 enum FractumStatus fractum_copy_radii(FractumHandle handle, double *buf, size_t len);
 
 // The size (bytes) of the saved state, for sizing the buffer of `fractum_save_state`.
@@ -99,7 +165,8 @@ enum FractumStatus fractum_save_state(FractumHandle handle,
                                       size_t len,
                                       size_t *written);
 
-// Restores a state saved by `fractum_save_state` from the same scene.
+// Restores a state saved by `fractum_save_state` from the same scene; the run then continues
+// bit for bit.
 enum FractumStatus fractum_restore_state(FractumHandle handle, const uint8_t *buf, size_t len);
 
 // Returns the simulation to the state it had right after creation.

@@ -2,7 +2,10 @@
 //!
 //! A thin layer: it checks arguments and handles, translates errors into status codes and a
 //! last-error message, and keeps panics from crossing the boundary. The physics is the
-//! library's (`fractum::Simulation`).
+//! library's: every handle holds one run of any model (`granular`, `dlsm`, `beam2d`), built
+//! by the library's registry from the scene's `model.kind` and driven through
+//! `fractum::Run`. The few calls that only some models answer (the driven faces of a
+//! granular box, grain radii) return `FRACTUM_ERR_MODEL` on the others.
 //!
 //! Handles are opaque numbers, never addresses: a freed or forged handle is recognised and
 //! rejected (`FRACTUM_ERR_HANDLE`) instead of being dereferenced.
@@ -15,7 +18,9 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
-use fractum::{Error, Run, Scene, Simulation};
+use fractum::models::granular::{Granular, Simulation};
+use fractum::run::Model;
+use fractum::{Error, Run, Scene};
 
 /// Status codes returned by every function.
 #[repr(C)]
@@ -28,14 +33,20 @@ pub enum FractumStatus {
     FRACTUM_ERR_NULL = 1,
     /// The handle is unknown: never created, or already freed.
     FRACTUM_ERR_HANDLE = 2,
-    /// Bad input: a scene, a key, a value out of range, a file that cannot be read.
+    /// Bad input: a scene, a key, a value out of range, a file that cannot be read, an unknown
+    /// series column.
     FRACTUM_ERR_INPUT = 3,
-    /// The simulation failed (instability, a state that cannot be restored).
+    /// The simulation failed (instability, a state that cannot be restored, a time that a
+    /// fixed-step integrator cannot land on).
     FRACTUM_ERR_RUN = 4,
-    /// A caller buffer is too small; the needed size is in the last-error message.
+    /// A caller buffer is too small; the needed size is in the last-error message (and in
+    /// `*needed` for text).
     FRACTUM_ERR_BUFFER = 5,
     /// An internal error (a caught panic). The handle should be freed.
     FRACTUM_ERR_INTERNAL = 6,
+    /// The call does not apply to this run's model (face calls on a model without driven
+    /// faces, radii of a model without grains); the message names the model. Nothing changed.
+    FRACTUM_ERR_MODEL = 7,
 }
 
 use FractumStatus::*;
@@ -43,14 +54,89 @@ use FractumStatus::*;
 /// An opaque simulation handle (0 is never a valid handle).
 pub type FractumHandle = u64;
 
+/// One run behind a handle. Granular runs are kept as their concrete type for the calls only
+/// they answer (radii, the box's axial strain, live contacts); every other call goes
+/// through [`Run`].
+enum Sim {
+    Granular(Box<Simulation>),
+    Other(Box<dyn Run>),
+}
+
+impl Sim {
+    fn build(scene: Scene, threads: usize) -> fractum::Result<Sim> {
+        if scene.model.kind == Granular::KIND {
+            Ok(Sim::Granular(Box::new(Simulation::new(
+                scene,
+                threads,
+                &mut |_| {},
+            )?)))
+        } else {
+            Ok(Sim::Other(fractum::models::build(
+                scene,
+                threads,
+                &mut |_| {},
+            )?))
+        }
+    }
+
+    fn restore(scene: Scene, bytes: &[u8], threads: usize) -> fractum::Result<Sim> {
+        if scene.model.kind == Granular::KIND {
+            Ok(Sim::Granular(Box::new(Simulation::restore(
+                scene, bytes, threads,
+            )?)))
+        } else {
+            Ok(Sim::Other(fractum::models::restore(scene, bytes, threads)?))
+        }
+    }
+
+    fn run(&self) -> &dyn Run {
+        match self {
+            Sim::Granular(s) => &**s,
+            Sim::Other(r) => &**r,
+        }
+    }
+
+    fn run_mut(&mut self) -> &mut dyn Run {
+        match self {
+            Sim::Granular(s) => &mut **s,
+            Sim::Other(r) => &mut **r,
+        }
+    }
+
+    fn granular(&self) -> Option<&Simulation> {
+        match self {
+            Sim::Granular(s) => Some(s),
+            Sim::Other(_) => None,
+        }
+    }
+
+    /// The value of `column` in the last series row, if the model records it.
+    fn last_value(&self, column: &str) -> Option<f64> {
+        let series = self.run().series();
+        let k = series.columns.iter().position(|c| c == column)?;
+        series.rows.last().map(|row| row[k])
+    }
+
+    /// The run over again from `bytes` (a saved state of this run's scene), on its threads.
+    fn replaced(&self, bytes: &[u8]) -> fractum::Result<Sim> {
+        let run = self.run();
+        Sim::restore(run.scene().clone(), bytes, run.threads())
+    }
+}
+
 struct Entry {
-    sim: Simulation,
+    sim: Sim,
     /// The state right after creation, for `fractum_reset`.
     initial: Vec<u8>,
 }
 
-fn registry() -> &'static Mutex<HashMap<u64, Arc<Mutex<Entry>>>> {
-    static REGISTRY: OnceLock<Mutex<HashMap<u64, Arc<Mutex<Entry>>>>> = OnceLock::new();
+type Failure = (FractumStatus, String);
+
+/// The live simulations by handle.
+type Registry = Mutex<HashMap<u64, Arc<Mutex<Entry>>>>;
+
+fn registry() -> &'static Registry {
+    static REGISTRY: OnceLock<Registry> = OnceLock::new();
     REGISTRY.get_or_init(|| Mutex::new(HashMap::new()))
 }
 
@@ -67,7 +153,7 @@ fn set_error(message: &str) {
 
 /// Runs `f`, turning errors into a status and a last-error message, and panics into
 /// `FRACTUM_ERR_INTERNAL`.
-fn guard(f: impl FnOnce() -> Result<(), (FractumStatus, String)>) -> FractumStatus {
+fn guard(f: impl FnOnce() -> Result<(), Failure>) -> FractumStatus {
     match catch_unwind(AssertUnwindSafe(f)) {
         Ok(Ok(())) => {
             set_error("");
@@ -89,7 +175,7 @@ fn guard(f: impl FnOnce() -> Result<(), (FractumStatus, String)>) -> FractumStat
     }
 }
 
-fn from_error(e: Error) -> (FractumStatus, String) {
+fn from_error(e: Error) -> Failure {
     let status = match e {
         Error::Input { .. } => FRACTUM_ERR_INPUT,
         Error::Run(_) => FRACTUM_ERR_RUN,
@@ -97,11 +183,30 @@ fn from_error(e: Error) -> (FractumStatus, String) {
     (status, e.to_string())
 }
 
-fn null(what: &str) -> (FractumStatus, String) {
+fn null(what: &str) -> Failure {
     (FRACTUM_ERR_NULL, format!("{what} is a null pointer"))
 }
 
-fn string_arg(p: *const c_char, what: &str) -> Result<String, (FractumStatus, String)> {
+/// `FRACTUM_ERR_MODEL` for `call` on `run`, saying what it needs.
+fn not_for_model(call: &str, run: &dyn Run, needs: &str) -> Failure {
+    (
+        FRACTUM_ERR_MODEL,
+        format!(
+            "{call} does not apply to this {} run (scene {}): {needs}",
+            run.model(),
+            run.scene().name
+        ),
+    )
+}
+
+fn poisoned() -> Failure {
+    (
+        FRACTUM_ERR_INTERNAL,
+        "the handle registry is poisoned".to_string(),
+    )
+}
+
+fn string_arg(p: *const c_char, what: &str) -> Result<String, Failure> {
     if p.is_null() {
         return Err(null(what));
     }
@@ -112,10 +217,7 @@ fn string_arg(p: *const c_char, what: &str) -> Result<String, (FractumStatus, St
         .map_err(|_| (FRACTUM_ERR_INPUT, format!("{what} is not valid UTF-8")))
 }
 
-fn overrides_arg(
-    overrides: *const *const c_char,
-    count: usize,
-) -> Result<Vec<String>, (FractumStatus, String)> {
+fn overrides_arg(overrides: *const *const c_char, count: usize) -> Result<Vec<String>, Failure> {
     if count == 0 {
         return Ok(Vec::new());
     }
@@ -130,26 +232,17 @@ fn overrides_arg(
         .collect()
 }
 
-fn register(
-    scene: Scene,
-    threads: i32,
-    out: *mut FractumHandle,
-) -> Result<(), (FractumStatus, String)> {
+fn register(scene: Scene, threads: i32, out: *mut FractumHandle) -> Result<(), Failure> {
     if out.is_null() {
         return Err(null("handle"));
     }
     let threads = threads.max(0) as usize;
-    let sim = Simulation::new(scene, threads, &mut |_| {}).map_err(from_error)?;
-    let initial = sim.save_state();
+    let sim = Sim::build(scene, threads).map_err(from_error)?;
+    let initial = sim.run().save_state();
     let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
     registry()
         .lock()
-        .map_err(|_| {
-            (
-                FRACTUM_ERR_INTERNAL,
-                "the handle registry is poisoned".to_string(),
-            )
-        })?
+        .map_err(|_| poisoned())?
         .insert(handle, Arc::new(Mutex::new(Entry { sim, initial })));
     // SAFETY: checked non-null above.
     unsafe { *out = handle };
@@ -159,16 +252,11 @@ fn register(
 /// Runs `f` on the simulation behind `handle`.
 fn with_sim<T>(
     handle: FractumHandle,
-    f: impl FnOnce(&mut Entry) -> Result<T, (FractumStatus, String)>,
-) -> Result<T, (FractumStatus, String)> {
+    f: impl FnOnce(&mut Entry) -> Result<T, Failure>,
+) -> Result<T, Failure> {
     let entry = registry()
         .lock()
-        .map_err(|_| {
-            (
-                FRACTUM_ERR_INTERNAL,
-                "the handle registry is poisoned".to_string(),
-            )
-        })?
+        .map_err(|_| poisoned())?
         .get(&handle)
         .cloned()
         .ok_or_else(|| {
@@ -188,8 +276,13 @@ fn with_sim<T>(
     f(&mut entry)
 }
 
+/// Runs `f` on the run behind `handle`, read only.
+fn with_run<T>(handle: FractumHandle, f: impl FnOnce(&dyn Run) -> T) -> Result<T, Failure> {
+    with_sim(handle, |e| Ok(f(e.sim.run())))
+}
+
 /// Writes `value` through `out`.
-fn put<T>(out: *mut T, value: T, what: &str) -> Result<(), (FractumStatus, String)> {
+fn put<T>(out: *mut T, value: T, what: &str) -> Result<(), Failure> {
     if out.is_null() {
         return Err(null(what));
     }
@@ -200,12 +293,7 @@ fn put<T>(out: *mut T, value: T, what: &str) -> Result<(), (FractumStatus, Strin
 
 /// Copies `values` into the caller's buffer of `len` elements (`unit` names them in the
 /// message when the buffer is too small).
-fn copy_out<T: Copy>(
-    values: &[T],
-    buf: *mut T,
-    len: usize,
-    unit: &str,
-) -> Result<(), (FractumStatus, String)> {
+fn copy_out<T: Copy>(values: &[T], buf: *mut T, len: usize, unit: &str) -> Result<(), Failure> {
     if buf.is_null() {
         return Err(null("buffer"));
     }
@@ -220,8 +308,32 @@ fn copy_out<T: Copy>(
     Ok(())
 }
 
+/// Copies `text` and a final NUL into the caller's buffer of `len` bytes; `*needed` receives
+/// the bytes it takes (with the NUL) in every case, so a call with `len` = 0 (and `buf` null)
+/// asks for the size.
+fn copy_text(text: &str, buf: *mut c_char, len: usize, needed: *mut usize) -> Result<(), Failure> {
+    let size = text.len() + 1;
+    put(needed, size, "needed")?;
+    if len < size {
+        return Err((
+            FRACTUM_ERR_BUFFER,
+            format!("the buffer holds {len} bytes, {size} are needed (with the final NUL)"),
+        ));
+    }
+    if buf.is_null() {
+        return Err(null("buffer"));
+    }
+    // SAFETY: `buf` holds at least `len >= size` bytes; the text has no NUL of its own (JSON
+    // escapes control characters, column names have none).
+    unsafe {
+        std::ptr::copy_nonoverlapping(text.as_ptr().cast::<c_char>(), buf, text.len());
+        *buf.add(text.len()) = 0;
+    }
+    Ok(())
+}
+
 /// The caller's `len` bytes at `buf`.
-fn bytes_arg(buf: *const u8, len: usize) -> Result<Vec<u8>, (FractumStatus, String)> {
+fn bytes_arg(buf: *const u8, len: usize) -> Result<Vec<u8>, Failure> {
     if buf.is_null() {
         return Err(null("buffer"));
     }
@@ -229,8 +341,24 @@ fn bytes_arg(buf: *const u8, len: usize) -> Result<Vec<u8>, (FractumStatus, Stri
     Ok(unsafe { std::slice::from_raw_parts(buf, len) }.to_vec())
 }
 
-/// Creates a simulation from a scene file. `overrides` are `count` strings `KEY=VALUE` as for
-/// `fractum run --set`; `threads` = 0 uses every core. On success `*handle` is set.
+/// A NUL-terminated copy of `s` that lives as long as the process (one per distinct string:
+/// the model kinds).
+fn static_c_str(s: &'static str) -> Result<*const c_char, Failure> {
+    type Names = Mutex<HashMap<&'static str, &'static CStr>>;
+    static NAMES: OnceLock<Names> = OnceLock::new();
+    let mut names = NAMES
+        .get_or_init(|| Mutex::new(HashMap::new()))
+        .lock()
+        .map_err(|_| poisoned())?;
+    let name = names
+        .entry(s)
+        .or_insert_with(|| Box::leak(CString::new(s).unwrap_or_default().into_boxed_c_str()));
+    Ok(name.as_ptr())
+}
+
+/// Creates a simulation from a scene file, of whatever model its `model.kind` names.
+/// `overrides` are `count` strings `KEY=VALUE` as for `fractum run --set`; `threads` = 0 uses
+/// every core. On success `*handle` is set.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_create_from_file(
     path: *const c_char,
@@ -276,15 +404,7 @@ pub extern "C" fn fractum_create_from_text(
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_free(handle: FractumHandle) -> FractumStatus {
     guard(|| {
-        let removed = registry()
-            .lock()
-            .map_err(|_| {
-                (
-                    FRACTUM_ERR_INTERNAL,
-                    "the handle registry is poisoned".to_string(),
-                )
-            })?
-            .remove(&handle);
+        let removed = registry().lock().map_err(|_| poisoned())?.remove(&handle);
         match removed {
             Some(_) => Ok(()),
             None => Err((
@@ -297,15 +417,84 @@ pub extern "C" fn fractum_free(handle: FractumHandle) -> FractumStatus {
     })
 }
 
+/// The scene's model (`model.kind`: "granular", "dlsm" or "beam2d") into `*kind`: a static
+/// string, valid for the life of the process.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_model(handle: FractumHandle, kind: *mut *const c_char) -> FractumStatus {
+    guard(|| {
+        let name = with_run(handle, |run| run.model())?;
+        put(kind, static_c_str(name)?, "kind")
+    })
+}
+
+/// Takes up to `steps` steps of the run's own time step, never past the scene's end (so
+/// `UINT64_MAX` runs to the end; see `fractum_finished`). Series rows are recorded on the way
+/// as in `fractum run`: chunking a run into calls does not change it.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_advance(handle: FractumHandle, steps: u64) -> FractumStatus {
+    guard(|| {
+        with_sim(handle, |e| {
+            e.sim.run_mut().advance(steps).map_err(from_error)
+        })
+    })
+}
+
 /// Advances to exactly `time` (s), sub-stepping at the simulation's own time step and
-/// shortening the last sub-step to land on `time`.
+/// shortening the last sub-step to land on `time`. A run whose integrator takes whole steps
+/// only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_advance_to(handle: FractumHandle, time: f64) -> FractumStatus {
-    guard(|| with_sim(handle, |e| e.sim.advance_to(time).map_err(from_error)))
+    guard(|| {
+        with_sim(handle, |e| {
+            e.sim.run_mut().advance_to(time).map_err(from_error)
+        })
+    })
+}
+
+/// `*finished` = 1 once the run has reached the scene's end (or the model stopped it, e.g.
+/// after failure), else 0. A run whose faces are driven from outside has no end.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_finished(handle: FractumHandle, finished: *mut i32) -> FractumStatus {
+    guard(|| {
+        let f = with_run(handle, |run| run.finished())?;
+        put(finished, i32::from(f), "finished")
+    })
+}
+
+/// The time (s).
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_time(handle: FractumHandle, time: *mut f64) -> FractumStatus {
+    guard(|| put(time, with_run(handle, |run| run.time())?, "time"))
+}
+
+/// The number of steps taken.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_steps(handle: FractumHandle, steps: *mut u64) -> FractumStatus {
+    guard(|| put(steps, with_run(handle, |run| run.step())?, "steps"))
+}
+
+/// The run's time step (s); a granular run may shorten it as grains break.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_dt(handle: FractumHandle, dt: *mut f64) -> FractumStatus {
+    guard(|| put(dt, with_run(handle, |run| run.dt())?, "dt"))
+}
+
+/// The number of bodies (particles, elements or polygons): what the per-body copies need.
+/// It can grow between steps (granular grains break).
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_bodies(handle: FractumHandle, bodies: *mut u64) -> FractumStatus {
+    guard(|| {
+        put(
+            bodies,
+            with_run(handle, |run| run.bodies() as u64)?,
+            "bodies",
+        )
+    })
 }
 
 /// Drives the top (z+) and bottom (z-) faces from now on at `top` and `bottom` m/s into the
-/// sample (compression positive). The scene's own loading stops.
+/// sample (compression positive). The scene's own loading stops and the run has no end of its
+/// own. Granular samples in a box only: FRACTUM_ERR_MODEL on other runs.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_set_face_speeds(
     handle: FractumHandle,
@@ -314,12 +503,19 @@ pub extern "C" fn fractum_set_face_speeds(
 ) -> FractumStatus {
     guard(|| {
         with_sim(handle, |e| {
-            e.sim.set_face_speeds(top, bottom).map_err(from_error)
+            let run = e.sim.run_mut();
+            if run.faces().is_none() {
+                return Err(not_for_model("fractum_set_face_speeds", run, FACES_NEEDED));
+            }
+            run.set_face_speeds(top, bottom).map_err(from_error)
         })
     })
 }
 
-/// Compressive normal forces (N) on the top (z+) and bottom (z-) faces.
+const FACES_NEEDED: &str = "only granular samples in a box have driven faces";
+
+/// Compressive normal forces (N) on the top (z+) and bottom (z-) faces. Granular samples in a
+/// box only: FRACTUM_ERR_MODEL on other runs.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_face_forces(
     handle: FractumHandle,
@@ -327,13 +523,20 @@ pub extern "C" fn fractum_face_forces(
     bottom: *mut f64,
 ) -> FractumStatus {
     guard(|| {
-        let (t, b) = with_sim(handle, |e| Ok(e.sim.face_forces()))?;
+        let (t, b) = with_sim(handle, |e| {
+            let run = e.sim.run();
+            let faces = run
+                .faces()
+                .ok_or_else(|| not_for_model("fractum_face_forces", run, FACES_NEEDED))?;
+            Ok(faces.face_forces())
+        })?;
         put(top, t, "top")?;
         put(bottom, b, "bottom")
     })
 }
 
 /// Compressive normal stresses (Pa) on the top (z+) and bottom (z-) faces, and their area (m²).
+/// Granular samples in a box only: FRACTUM_ERR_MODEL on other runs.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_face_stresses(
     handle: FractumHandle,
@@ -343,8 +546,12 @@ pub extern "C" fn fractum_face_stresses(
 ) -> FractumStatus {
     guard(|| {
         let (t, b, a) = with_sim(handle, |e| {
-            let (t, b) = e.sim.face_stresses();
-            Ok((t, b, e.sim.face_area()))
+            let run = e.sim.run();
+            let faces = run
+                .faces()
+                .ok_or_else(|| not_for_model("fractum_face_stresses", run, FACES_NEEDED))?;
+            let (t, b) = faces.face_stresses();
+            Ok((t, b, faces.face_area()))
         })?;
         put(top, t, "top")?;
         put(bottom, b, "bottom")?;
@@ -352,7 +559,9 @@ pub extern "C" fn fractum_face_stresses(
     })
 }
 
-/// Time (s), axial strain (compression positive) and the number of steps taken.
+/// Time (s), axial strain and the number of steps taken. The strain is that of a granular
+/// box (compression positive; 0 without a box) and NaN for the other models, whose own strain
+/// columns `fractum_scalar` reads.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_progress(
     handle: FractumHandle,
@@ -362,7 +571,9 @@ pub extern "C" fn fractum_progress(
 ) -> FractumStatus {
     guard(|| {
         let (t, s, n) = with_sim(handle, |e| {
-            Ok((e.sim.time, e.sim.axial_strain(), e.sim.step))
+            let run = e.sim.run();
+            let strain = e.sim.granular().map_or(f64::NAN, |g| g.axial_strain());
+            Ok((run.time(), strain, run.step()))
         })?;
         put(time, t, "time")?;
         put(strain, s, "strain")?;
@@ -370,7 +581,9 @@ pub extern "C" fn fractum_progress(
     })
 }
 
-/// Numbers of bodies and of body–body contacts, and the kinetic energy (J).
+/// Numbers of bodies and of body–body contacts, and the kinetic energy (J). Granular runs give
+/// the current contacts and energy; the other models those of the last series row (their
+/// `contacts` and `kinetic_energy` columns; 0 and NaN when the model records none).
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_counts(
     handle: FractumHandle,
@@ -380,11 +593,15 @@ pub extern "C" fn fractum_counts(
 ) -> FractumStatus {
     guard(|| {
         let (n, c, k) = with_sim(handle, |e| {
-            Ok((
-                e.sim.bodies.len() as u64,
-                e.sim.pipeline.contacts() as u64,
-                e.sim.bodies.kinetic_energy(),
-            ))
+            let n = e.sim.run().bodies() as u64;
+            Ok(match e.sim.granular() {
+                Some(g) => (n, g.pipeline.contacts() as u64, g.bodies.kinetic_energy()),
+                None => (
+                    n,
+                    e.sim.last_value("contacts").map_or(0, |c| c as u64),
+                    e.sim.last_value("kinetic_energy").unwrap_or(f64::NAN),
+                ),
+            })
         })?;
         put(bodies, n, "bodies")?;
         put(contacts, c, "contacts")?;
@@ -392,15 +609,90 @@ pub extern "C" fn fractum_counts(
     })
 }
 
-/// Copies per-body values (taken from the simulation by `values`) into the caller's buffer.
+/// The value of the series column `name` (a column of the run's series.csv, e.g. "stress",
+/// "kinetic_energy") in its last row, recorded at the last output step (every `output.every`
+/// steps and at the end). An unknown name gives FRACTUM_ERR_INPUT with the columns listed.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_scalar(
+    handle: FractumHandle,
+    name: *const c_char,
+    value: *mut f64,
+) -> FractumStatus {
+    guard(|| {
+        let name = string_arg(name, "name")?;
+        let v = with_run(handle, |run| {
+            let series = run.series();
+            let k = series.columns.iter().position(|c| *c == name).ok_or_else(|| {
+                (
+                    FRACTUM_ERR_INPUT,
+                    format!(
+                        "\"{name}\" is not a series column of this {} run (scene {}); its columns are: {}",
+                        run.model(),
+                        run.scene().name,
+                        series.columns.join(", ")
+                    ),
+                )
+            })?;
+            let row = series.rows.last().ok_or_else(|| {
+                (
+                    FRACTUM_ERR_RUN,
+                    "the run has recorded no series row yet".to_string(),
+                )
+            })?;
+            Ok(row[k])
+        })??;
+        put(value, v, "value")
+    })
+}
+
+/// The series columns (those `fractum_scalar` reads) as one comma-separated NUL-terminated
+/// text into `buf` of `len` bytes. `*needed` receives the size with the NUL; a short buffer
+/// (or `len` = 0 to ask) gives FRACTUM_ERR_BUFFER.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_columns(
+    handle: FractumHandle,
+    buf: *mut c_char,
+    len: usize,
+    needed: *mut usize,
+) -> FractumStatus {
+    guard(|| {
+        let text = with_run(handle, |run| run.series().columns.join(","))?;
+        copy_text(&text, buf, len, needed)
+    })
+}
+
+/// The run's summary so far as NUL-terminated JSON text into `buf` of `len` bytes: the keys
+/// and numbers of `fractum run`'s summary.json for the same scene and thread count, less
+/// `wall_seconds`, in the same (pretty-printed) layout. `*needed` receives the size with the
+/// NUL; a short buffer (or `len` = 0 to ask) gives FRACTUM_ERR_BUFFER.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_summary_json(
+    handle: FractumHandle,
+    buf: *mut c_char,
+    len: usize,
+    needed: *mut usize,
+) -> FractumStatus {
+    guard(|| {
+        let summary = with_run(handle, |run| run.summary())?;
+        let text = serde_json::to_string_pretty(&summary).map_err(|e| {
+            (
+                FRACTUM_ERR_INTERNAL,
+                format!("the summary does not serialise: {e}"),
+            )
+        })?;
+        copy_text(&text, buf, len, needed)
+    })
+}
+
+/// Copies per-body values (taken from the run by `values`) into the caller's buffer.
 fn copy_body_values(
     handle: FractumHandle,
     buf: *mut f64,
     len: usize,
-    values: impl FnOnce(&Simulation) -> Vec<f64>,
+    values: impl FnOnce(&Sim) -> Result<Vec<f64>, Failure>,
 ) -> FractumStatus {
     guard(|| {
-        let v = with_sim(handle, |e| Ok(values(&e.sim)))?;
+        let v = with_sim(handle, |e| values(&e.sim))?;
         copy_out(&v, buf, len, "doubles")
     })
 }
@@ -409,42 +701,64 @@ fn flatten(v: &[fractum::state::Vec3]) -> Vec<f64> {
     v.iter().flat_map(|p| [p.x, p.y, p.z]).collect()
 }
 
-/// Copies the positions (m) as x0 y0 z0 x1 ... into `buf` of `len` doubles (3 per body).
+/// Copies the positions (m) as x0 y0 z0 x1 ... into `buf` of `len` doubles (3 per body; z = 0
+/// for beam2d's 2D polygons).
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_copy_positions(
     handle: FractumHandle,
     buf: *mut f64,
     len: usize,
 ) -> FractumStatus {
-    copy_body_values(handle, buf, len, |sim| flatten(&sim.bodies.pos))
+    copy_body_values(handle, buf, len, |sim| Ok(flatten(&sim.run().positions())))
 }
 
-/// Copies the velocities (m/s) as vx0 vy0 vz0 vx1 ... into `buf` of `len` doubles.
+/// Copies the velocities (m/s) as vx0 vy0 vz0 vx1 ... into `buf` of `len` doubles (3 per
+/// body).
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_copy_velocities(
     handle: FractumHandle,
     buf: *mut f64,
     len: usize,
 ) -> FractumStatus {
-    copy_body_values(handle, buf, len, |sim| flatten(&sim.bodies.vel))
+    copy_body_values(handle, buf, len, |sim| Ok(flatten(&sim.run().velocities())))
+}
+
+/// Copies the orientations as unit quaternions w0 x0 y0 z0 w1 ... into `buf` of `len` doubles
+/// (4 per body; beam2d's polygons turn about z only).
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_copy_orientations(
+    handle: FractumHandle,
+    buf: *mut f64,
+    len: usize,
+) -> FractumStatus {
+    copy_body_values(handle, buf, len, |sim| {
+        Ok(sim.run().orientations().into_iter().flatten().collect())
+    })
 }
 
 /// Copies the radii (m; the bounding radius of non-spherical bodies) into `buf` of `len`
-/// doubles (1 per body).
+/// doubles (1 per body). Granular runs only: FRACTUM_ERR_MODEL on other runs.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_copy_radii(
     handle: FractumHandle,
     buf: *mut f64,
     len: usize,
 ) -> FractumStatus {
-    copy_body_values(handle, buf, len, |sim| sim.bodies.radius.clone())
+    copy_body_values(handle, buf, len, |sim| match sim.granular() {
+        Some(g) => Ok(g.bodies.radius.clone()),
+        None => Err(not_for_model(
+            "fractum_copy_radii",
+            sim.run(),
+            "only granular runs have grain radii",
+        )),
+    })
 }
 
 /// The size (bytes) of the saved state, for sizing the buffer of `fractum_save_state`.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_state_size(handle: FractumHandle, size: *mut usize) -> FractumStatus {
     guard(|| {
-        let n = with_sim(handle, |e| Ok(e.sim.save_state().len()))?;
+        let n = with_run(handle, |run| run.save_state().len())?;
         put(size, n, "size")
     })
 }
@@ -458,13 +772,14 @@ pub extern "C" fn fractum_save_state(
     written: *mut usize,
 ) -> FractumStatus {
     guard(|| {
-        let bytes = with_sim(handle, |e| Ok(e.sim.save_state()))?;
+        let bytes = with_run(handle, |run| run.save_state())?;
         copy_out(&bytes, buf, len, "bytes")?;
         put(written, bytes.len(), "written")
     })
 }
 
-/// Restores a state saved by `fractum_save_state` from the same scene.
+/// Restores a state saved by `fractum_save_state` from the same scene; the run then continues
+/// bit for bit.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_restore_state(
     handle: FractumHandle,
@@ -474,9 +789,7 @@ pub extern "C" fn fractum_restore_state(
     guard(|| {
         let bytes = bytes_arg(buf, len)?;
         with_sim(handle, |e| {
-            let threads = e.sim.threads();
-            let scene = e.sim.scene.clone();
-            e.sim = Simulation::restore(scene, &bytes, threads).map_err(from_error)?;
+            e.sim = e.sim.replaced(&bytes).map_err(from_error)?;
             Ok(())
         })
     })
@@ -487,9 +800,7 @@ pub extern "C" fn fractum_restore_state(
 pub extern "C" fn fractum_reset(handle: FractumHandle) -> FractumStatus {
     guard(|| {
         with_sim(handle, |e| {
-            let threads = e.sim.threads();
-            let scene = e.sim.scene.clone();
-            e.sim = Simulation::restore(scene, &e.initial, threads).map_err(from_error)?;
+            e.sim = e.sim.replaced(&e.initial).map_err(from_error)?;
             Ok(())
         })
     })
@@ -515,24 +826,43 @@ pub extern "C" fn fractum_last_error() -> *const c_char {
 mod tests {
     use super::*;
 
+    fn last_error() -> String {
+        // SAFETY: fractum_last_error returns a valid NUL-terminated string.
+        unsafe { CStr::from_ptr(fractum_last_error()) }
+            .to_string_lossy()
+            .to_string()
+    }
+
     #[test]
     fn a_panic_becomes_a_status_and_a_message() {
         let status = guard(|| panic!("boom"));
         assert_eq!(status, FRACTUM_ERR_INTERNAL);
-        // SAFETY: fractum_last_error returns a valid NUL-terminated string.
-        let msg = unsafe { CStr::from_ptr(fractum_last_error()) }
-            .to_string_lossy()
-            .to_string();
+        let msg = last_error();
         assert!(msg.contains("boom"), "{msg}");
     }
 
     #[test]
     fn unknown_handles_are_refused() {
         assert_eq!(fractum_advance_to(u64::MAX, 1.0), FRACTUM_ERR_HANDLE);
+        assert_eq!(fractum_advance(u64::MAX, 1), FRACTUM_ERR_HANDLE);
+        let mut kind = std::ptr::null();
+        assert_eq!(fractum_model(12345, &mut kind), FRACTUM_ERR_HANDLE);
         assert_eq!(fractum_free(0), FRACTUM_ERR_HANDLE);
-        let msg = unsafe { CStr::from_ptr(fractum_last_error()) }
-            .to_string_lossy()
-            .to_string();
+        let msg = last_error();
         assert!(msg.contains("not a live Fractum simulation"), "{msg}");
+    }
+
+    #[test]
+    fn text_goes_out_with_its_size_and_a_short_buffer_is_refused() {
+        let mut needed = 0usize;
+        let status = guard(|| copy_text("abc", std::ptr::null_mut(), 0, &mut needed));
+        assert_eq!((status, needed), (FRACTUM_ERR_BUFFER, 4));
+        assert!(last_error().contains("4 are needed"), "{}", last_error());
+        let mut buf = [1 as c_char; 4];
+        let status = guard(|| copy_text("abc", buf.as_mut_ptr(), buf.len(), &mut needed));
+        assert_eq!(status, FRACTUM_OK);
+        // SAFETY: copy_text wrote a NUL-terminated string into buf.
+        let back = unsafe { CStr::from_ptr(buf.as_ptr()) };
+        assert_eq!(back.to_str(), Ok("abc"));
     }
 }
