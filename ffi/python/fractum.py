@@ -1,5 +1,8 @@
 """Fractum from Python: a ctypes wrapper over libfractum.so, returning numpy arrays.
 
+Any scene runs (granular, dlsm, beam2d); the SHPB calls (face speeds, forces and stresses)
+and radii apply to granular samples only and raise ModelError on the other models.
+
 Works in plain Python (3.8+) and in YADE's Python. The library is found through
 $FRACTUM_LIB, else next to this file in the repository's target/release/, else by the
 system loader ("libfractum.so").
@@ -11,15 +14,22 @@ system loader ("libfractum.so").
         top, bottom, area = sim.face_stresses()  # Pa, Pa, m^2
         xyz = sim.positions()                  # (n, 3) array, m
 
+    with fractum.Simulation("scenes/dlsm_tensile.toml", overrides=["sample.elements=300"]) as sim:
+        while not sim.finished():
+            sim.advance(1000)                  # steps, never past the scene's end
+        sim.scalar("stress")                   # the last series row's value, Pa
+        sim.summary()["apparent_young"]        # summary.json's keys, as a dict
+
 Every failure raises FractumError with the library's status and its one-sentence message.
 """
 
 import ctypes
+import json
 import os
 
 import numpy as np
 
-__all__ = ["Simulation", "FractumError", "version", "load_library"]
+__all__ = ["Simulation", "FractumError", "ModelError", "version", "load_library"]
 
 _STATUS = {
     0: "FRACTUM_OK",
@@ -29,7 +39,11 @@ _STATUS = {
     4: "FRACTUM_ERR_RUN",
     5: "FRACTUM_ERR_BUFFER",
     6: "FRACTUM_ERR_INTERNAL",
+    7: "FRACTUM_ERR_MODEL",
 }
+
+_ERR_BUFFER = 5
+_ERR_MODEL = 7
 
 
 class FractumError(RuntimeError):
@@ -39,6 +53,11 @@ class FractumError(RuntimeError):
         self.status = _STATUS.get(status, str(status))
         self.message = message
         super().__init__("%s: %s" % (self.status, message))
+
+
+class ModelError(FractumError):
+    """The call does not apply to this run's model (FRACTUM_ERR_MODEL): the SHPB face calls
+    and radii on a dlsm or beam2d run, or on a granular one without a box. Nothing changed."""
 
 
 _lib = None
@@ -66,18 +85,30 @@ def load_library(path=None):
         raise OSError("libfractum.so not found (set FRACTUM_LIB): %s" % last)
     d, u64, sz, p = ctypes.c_double, ctypes.c_uint64, ctypes.c_size_t, ctypes.POINTER
     st = ctypes.c_int
+    buf = p(ctypes.c_char)
     sigs = {
         "fractum_create_from_file": [ctypes.c_char_p, p(ctypes.c_char_p), sz, ctypes.c_int32, p(u64)],
         "fractum_create_from_text": [ctypes.c_char_p, ctypes.c_char_p, p(ctypes.c_char_p), sz, ctypes.c_int32, p(u64)],
         "fractum_free": [u64],
+        "fractum_model": [u64, p(ctypes.c_char_p)],
+        "fractum_advance": [u64, u64],
         "fractum_advance_to": [u64, d],
+        "fractum_finished": [u64, p(ctypes.c_int32)],
+        "fractum_time": [u64, p(d)],
+        "fractum_steps": [u64, p(u64)],
+        "fractum_dt": [u64, p(d)],
+        "fractum_bodies": [u64, p(u64)],
         "fractum_set_face_speeds": [u64, d, d],
         "fractum_face_forces": [u64, p(d), p(d)],
         "fractum_face_stresses": [u64, p(d), p(d), p(d)],
         "fractum_progress": [u64, p(d), p(d), p(u64)],
         "fractum_counts": [u64, p(u64), p(u64), p(d)],
+        "fractum_scalar": [u64, ctypes.c_char_p, p(d)],
+        "fractum_columns": [u64, buf, sz, p(sz)],
+        "fractum_summary_json": [u64, buf, sz, p(sz)],
         "fractum_copy_positions": [u64, p(d), sz],
         "fractum_copy_velocities": [u64, p(d), sz],
+        "fractum_copy_orientations": [u64, p(d), sz],
         "fractum_copy_radii": [u64, p(d), sz],
         "fractum_state_size": [u64, p(sz)],
         "fractum_save_state": [u64, p(ctypes.c_uint8), sz, p(sz)],
@@ -98,7 +129,8 @@ def load_library(path=None):
 
 def _check(status):
     if status != 0:
-        raise FractumError(status, load_library().fractum_last_error().decode("utf-8", "replace"))
+        message = load_library().fractum_last_error().decode("utf-8", "replace")
+        raise (ModelError if status == _ERR_MODEL else FractumError)(status, message)
 
 
 def version():
@@ -152,54 +184,122 @@ class Simulation:
     def _call(self, name, *args):
         _check(getattr(load_library(), name)(self._h, *args))
 
-    def set_face_speeds(self, top, bottom):
-        """Top (z+) and bottom (z-) faces move into the sample at these speeds (m/s)."""
-        self._call("fractum_set_face_speeds", float(top), float(bottom))
+    def _get(self, name, ctype):
+        v = ctype()
+        self._call(name, ctypes.byref(v))
+        return v.value
+
+    def _text(self, name):
+        """A text answer: asks for its size, then fetches it."""
+        lib = load_library()
+        needed = ctypes.c_size_t()
+        status = getattr(lib, name)(self._h, None, 0, ctypes.byref(needed))
+        if status != _ERR_BUFFER:
+            _check(status)
+        buf = ctypes.create_string_buffer(needed.value)
+        self._call(name, buf, needed.value, ctypes.byref(needed))
+        return buf.value.decode("utf-8")
+
+    @property
+    def model(self):
+        """The scene's model: "granular", "dlsm" or "beam2d"."""
+        return self._get("fractum_model", ctypes.c_char_p).decode()
+
+    def advance(self, steps):
+        """Takes up to `steps` steps of the run's own time step, never past the scene's end."""
+        self._call("fractum_advance", int(steps))
 
     def advance_to(self, time):
-        """Advances to exactly `time` (s)."""
+        """Advances to exactly `time` (s). beam2d with Gear5 takes whole steps only and
+        refuses a time between them (FractumError, FRACTUM_ERR_RUN)."""
         self._call("fractum_advance_to", float(time))
 
+    def finished(self):
+        """True once the run has reached the scene's end (or the model stopped it)."""
+        return bool(self._get("fractum_finished", ctypes.c_int32))
+
+    def time(self):
+        """The time (s)."""
+        return self._get("fractum_time", ctypes.c_double)
+
+    def steps(self):
+        """The number of steps taken."""
+        return self._get("fractum_steps", ctypes.c_uint64)
+
+    def dt(self):
+        """The time step (s)."""
+        return self._get("fractum_dt", ctypes.c_double)
+
+    def bodies(self):
+        """The number of bodies (particles, elements or polygons); grains break, so it grows."""
+        return self._get("fractum_bodies", ctypes.c_uint64)
+
+    def scalar(self, name):
+        """The series column `name` (see columns()) in the last recorded row (rows come every
+        output.every steps and at the end). An unknown name raises FRACTUM_ERR_INPUT."""
+        v = ctypes.c_double()
+        self._call("fractum_scalar", name.encode(), ctypes.byref(v))
+        return v.value
+
+    def columns(self):
+        """The series columns, as in series.csv."""
+        return self._text("fractum_columns").split(",")
+
+    def summary(self):
+        """The results so far as a dict: summary.json's keys but wall_seconds."""
+        return json.loads(self._text("fractum_summary_json"))
+
+    def set_face_speeds(self, top, bottom):
+        """Top (z+) and bottom (z-) faces move into the sample at these speeds (m/s).
+        Granular samples in a box only (else ModelError)."""
+        self._call("fractum_set_face_speeds", float(top), float(bottom))
+
     def face_forces(self):
-        """Compressive normal forces (N) on the top and bottom faces."""
+        """Compressive normal forces (N) on the top and bottom faces (granular box only)."""
         t, b = ctypes.c_double(), ctypes.c_double()
         self._call("fractum_face_forces", ctypes.byref(t), ctypes.byref(b))
         return t.value, b.value
 
     def face_stresses(self):
-        """Compressive normal stresses (Pa) on the top and bottom faces, and their area (m^2)."""
+        """Compressive normal stresses (Pa) on the top and bottom faces, and their area (m^2)
+        (granular box only)."""
         t, b, a = ctypes.c_double(), ctypes.c_double(), ctypes.c_double()
         self._call("fractum_face_stresses", ctypes.byref(t), ctypes.byref(b), ctypes.byref(a))
         return t.value, b.value, a.value
 
     def progress(self):
-        """(time in s, axial strain, steps taken)."""
+        """(time in s, axial strain of a granular box (NaN for other models), steps taken)."""
         t, s, n = ctypes.c_double(), ctypes.c_double(), ctypes.c_uint64()
         self._call("fractum_progress", ctypes.byref(t), ctypes.byref(s), ctypes.byref(n))
         return t.value, s.value, n.value
 
     def counts(self):
-        """(bodies, body-body contacts, kinetic energy in J)."""
+        """(bodies, body-body contacts, kinetic energy in J); models other than granular give
+        the contacts and kinetic energy of the last series row (0 and NaN if not recorded)."""
         b, c, k = ctypes.c_uint64(), ctypes.c_uint64(), ctypes.c_double()
         self._call("fractum_counts", ctypes.byref(b), ctypes.byref(c), ctypes.byref(k))
         return b.value, c.value, k.value
 
     def _array(self, name, per_body):
-        n = self.counts()[0]
+        n = self.bodies()
         out = np.empty(n * per_body, dtype=np.float64)
         self._call(name, out.ctypes.data_as(ctypes.POINTER(ctypes.c_double)), out.size)
         return out.reshape(n, per_body) if per_body > 1 else out
 
     def positions(self):
-        """Centres (m) as an (n, 3) array."""
+        """Centres (m) as an (n, 3) array (z = 0 for beam2d)."""
         return self._array("fractum_copy_positions", 3)
 
     def velocities(self):
         """Velocities (m/s) as an (n, 3) array."""
         return self._array("fractum_copy_velocities", 3)
 
+    def orientations(self):
+        """Unit quaternions (w, x, y, z) as an (n, 4) array; beam2d turns about z only."""
+        return self._array("fractum_copy_orientations", 4)
+
     def radii(self):
-        """Radii (m) as an (n,) array."""
+        """Radii (m) as an (n,) array (granular only, else ModelError)."""
         return self._array("fractum_copy_radii", 1)
 
     def save_state(self):

@@ -1,4 +1,5 @@
-"""The ctypes wrapper (ffi/python/fractum.py) on the SHPB scene, in plain Python."""
+"""The ctypes wrapper (ffi/python/fractum.py) in plain Python: the SHPB scene, then reduced
+dlsm and beam2d scenes through the generic calls."""
 import os
 
 import numpy as np
@@ -13,6 +14,7 @@ QUIET = ["output.vtk=0", "output.every=1000000"]
 
 def test_stress_rises_with_strain_and_arrays_come_back_as_numpy():
     with fractum.Simulation(SCENE, overrides=QUIET) as sim:
+        assert sim.model == "granular"
         n, contacts, ke = sim.counts()
         assert 900 < n < 1050
         r = sim.radii()
@@ -62,3 +64,60 @@ def test_failures_raise_with_the_status_and_a_sentence():
         sim.advance_to(1e-6)
     assert e.value.status == "FRACTUM_ERR_HANDLE"
     assert fractum.version()
+
+
+# The reduced sizes of tests/golden_summaries.rs.
+OTHER_MODELS = [
+    ("dlsm_tensile.toml", ["sample.elements=300"], "dlsm", 300),
+    ("beam2d_moduli.toml",
+     ["sample.cells=[8, 12]", "loading.strain_rate=0.4", "loading.ramp_time=0.001"], "beam2d", 96),
+]
+
+
+@pytest.mark.parametrize("scene,overrides,model,bodies", OTHER_MODELS, ids=[m[2] for m in OTHER_MODELS])
+def test_dlsm_and_beam2d_run_to_their_end_through_the_generic_calls(scene, overrides, model, bodies):
+    with fractum.Simulation(os.path.join(ROOT, "scenes", scene), overrides=overrides) as sim:
+        assert sim.model == model
+        assert sim.bodies() == bodies and sim.counts()[0] == bodies
+        # The SHPB calls and radii do not apply: ModelError, a FractumError naming the model.
+        for call in (lambda: sim.set_face_speeds(3.0, 0.0), sim.face_forces, sim.face_stresses, sim.radii):
+            with pytest.raises(fractum.ModelError) as e:
+                call()
+            assert e.value.status == "FRACTUM_ERR_MODEL" and model in e.value.message
+        assert not sim.finished()
+        sim.advance(100)
+        state = sim.save_state()
+        sim.advance(100)
+        assert sim.steps() == 200 and sim.time() == pytest.approx(200 * sim.dt(), rel=1e-9)
+        x, v, q = sim.positions(), sim.velocities(), sim.orientations()
+        assert x.shape == v.shape == (bodies, 3) and q.shape == (bodies, 4)
+        assert np.isfinite(x).all() and np.isfinite(v).all() and np.abs(v).sum() > 0
+        assert np.allclose((q * q).sum(axis=1), 1.0, rtol=0, atol=1e-9)
+        if model == "beam2d":
+            assert (x[:, 2] == 0).all() and (q[:, 1:3] == 0).all()
+        t, strain, steps = sim.progress()
+        assert steps == 200 and np.isnan(strain)
+        sim.restore_state(state)
+        sim.advance(100)
+        assert np.array_equal(sim.positions(), x)
+        columns = sim.columns()
+        assert columns[0] == "time" and "kinetic_energy" in columns
+        with pytest.raises(fractum.FractumError) as e:
+            sim.scalar("no_such_column")
+        assert e.value.status == "FRACTUM_ERR_INPUT" and "kinetic_energy" in e.value.message
+        while not sim.finished():
+            sim.advance(1000)
+        assert sim.scalar("time") == sim.time()  # the last row is recorded at the end
+        assert sim.scalar("kinetic_energy") > 0
+        summary = sim.summary()
+        assert summary["model"] == model and summary["bodies"] == bodies
+        assert summary["steps"] == sim.steps() and "wall_seconds" not in summary
+        if model == "dlsm":
+            assert summary["apparent_young"] == pytest.approx(20e9, rel=0.1)
+        else:
+            assert summary["integrator"] == "gear5"
+            with pytest.raises(fractum.FractumError) as e:
+                sim.advance_to(sim.time() + 0.5 * sim.dt())
+            assert e.value.status == "FRACTUM_ERR_RUN" and "whole steps" in e.value.message
+        sim.reset()
+        assert sim.steps() == 0 and sim.time() == 0.0
