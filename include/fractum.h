@@ -69,7 +69,7 @@ enum FractumStatus fractum_advance(FractumHandle handle, uint64_t steps);
 
 // Advances to exactly `time` (s), sub-stepping at the simulation's own time step and
 // shortening the last sub-step to land on `time`. A run whose integrator takes whole steps
-// only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN.
+// only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN before taking any step.
 enum FractumStatus fractum_advance_to(FractumHandle handle, double time);
 
 // `*finished` = 1 once the run has reached the scene's end (or the model stopped it, e.g.
@@ -105,17 +105,16 @@ enum FractumStatus fractum_face_stresses(FractumHandle handle,
                                          double *bottom,
                                          double *area);
 
-// Time (s), axial strain and the number of steps taken. The strain is that of a granular
-// box (compression positive; 0 without a box) and NaN for the other models, whose own strain
-// columns `fractum_scalar` reads.
+// Time (s), axial strain and the number of steps taken. The strain is that of the box
+// between driven faces (a granular sample in a box; compression positive) and NaN for runs
+// without them, whose own strain columns `fractum_scalar` reads.
 enum FractumStatus fractum_progress(FractumHandle handle,
                                     double *time,
                                     double *strain,
                                     uint64_t *steps);
 
-// Numbers of bodies and of body–body contacts, and the kinetic energy (J). Granular runs give
-// the current contacts and energy; the other models those of the last series row (their
-// `contacts` and `kinetic_energy` columns; 0 and NaN when the model records none).
+// Numbers of bodies and of body–body contacts, and the kinetic energy (J), now. Contacts are 0
+// for a model that does not count them (dlsm: its cohesive contacts are bonds).
 enum FractumStatus fractum_counts(FractumHandle handle,
                                   uint64_t *bodies,
                                   uint64_t *contacts,

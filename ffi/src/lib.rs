@@ -18,8 +18,6 @@ use std::path::Path;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
-use fractum::models::granular::{Granular, Simulation};
-use fractum::run::Model;
 use fractum::{Error, Run, Scene};
 
 /// Status codes returned by every function.
@@ -54,67 +52,24 @@ use FractumStatus::*;
 /// An opaque simulation handle (0 is never a valid handle).
 pub type FractumHandle = u64;
 
-/// One run behind a handle. Granular runs are kept as their concrete type for the calls only
-/// they answer (radii, the box's axial strain, live contacts); every other call goes
-/// through [`Run`].
-enum Sim {
-    Granular(Box<Simulation>),
-    Other(Box<dyn Run>),
-}
+/// One run behind a handle: any model's, built and restored by the registry.
+struct Sim(Box<dyn Run>);
 
 impl Sim {
     fn build(scene: Scene, threads: usize) -> fractum::Result<Sim> {
-        if scene.model.kind == Granular::KIND {
-            Ok(Sim::Granular(Box::new(Simulation::new(
-                scene,
-                threads,
-                &mut |_| {},
-            )?)))
-        } else {
-            Ok(Sim::Other(fractum::models::build(
-                scene,
-                threads,
-                &mut |_| {},
-            )?))
-        }
+        Ok(Sim(fractum::models::build(scene, threads, &mut |_| {})?))
     }
 
     fn restore(scene: Scene, bytes: &[u8], threads: usize) -> fractum::Result<Sim> {
-        if scene.model.kind == Granular::KIND {
-            Ok(Sim::Granular(Box::new(Simulation::restore(
-                scene, bytes, threads,
-            )?)))
-        } else {
-            Ok(Sim::Other(fractum::models::restore(scene, bytes, threads)?))
-        }
+        Ok(Sim(fractum::models::restore(scene, bytes, threads)?))
     }
 
     fn run(&self) -> &dyn Run {
-        match self {
-            Sim::Granular(s) => &**s,
-            Sim::Other(r) => &**r,
-        }
+        &*self.0
     }
 
     fn run_mut(&mut self) -> &mut dyn Run {
-        match self {
-            Sim::Granular(s) => &mut **s,
-            Sim::Other(r) => &mut **r,
-        }
-    }
-
-    fn granular(&self) -> Option<&Simulation> {
-        match self {
-            Sim::Granular(s) => Some(s),
-            Sim::Other(_) => None,
-        }
-    }
-
-    /// The value of `column` in the last series row, if the model records it.
-    fn last_value(&self, column: &str) -> Option<f64> {
-        let series = self.run().series();
-        let k = series.columns.iter().position(|c| c == column)?;
-        series.rows.last().map(|row| row[k])
+        &mut *self.0
     }
 
     /// The run over again from `bytes` (a saved state of this run's scene), on its threads.
@@ -441,7 +396,7 @@ pub extern "C" fn fractum_advance(handle: FractumHandle, steps: u64) -> FractumS
 
 /// Advances to exactly `time` (s), sub-stepping at the simulation's own time step and
 /// shortening the last sub-step to land on `time`. A run whose integrator takes whole steps
-/// only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN.
+/// only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN before taking any step.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_advance_to(handle: FractumHandle, time: f64) -> FractumStatus {
     guard(|| {
@@ -559,9 +514,9 @@ pub extern "C" fn fractum_face_stresses(
     })
 }
 
-/// Time (s), axial strain and the number of steps taken. The strain is that of a granular
-/// box (compression positive; 0 without a box) and NaN for the other models, whose own strain
-/// columns `fractum_scalar` reads.
+/// Time (s), axial strain and the number of steps taken. The strain is that of the box
+/// between driven faces (a granular sample in a box; compression positive) and NaN for runs
+/// without them, whose own strain columns `fractum_scalar` reads.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_progress(
     handle: FractumHandle,
@@ -572,7 +527,7 @@ pub extern "C" fn fractum_progress(
     guard(|| {
         let (t, s, n) = with_sim(handle, |e| {
             let run = e.sim.run();
-            let strain = e.sim.granular().map_or(f64::NAN, |g| g.axial_strain());
+            let strain = run.faces().map_or(f64::NAN, |f| f.axial_strain());
             Ok((run.time(), strain, run.step()))
         })?;
         put(time, t, "time")?;
@@ -581,9 +536,8 @@ pub extern "C" fn fractum_progress(
     })
 }
 
-/// Numbers of bodies and of body–body contacts, and the kinetic energy (J). Granular runs give
-/// the current contacts and energy; the other models those of the last series row (their
-/// `contacts` and `kinetic_energy` columns; 0 and NaN when the model records none).
+/// Numbers of bodies and of body–body contacts, and the kinetic energy (J), now. Contacts are 0
+/// for a model that does not count them (dlsm: its cohesive contacts are bonds).
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_counts(
     handle: FractumHandle,
@@ -593,15 +547,10 @@ pub extern "C" fn fractum_counts(
 ) -> FractumStatus {
     guard(|| {
         let (n, c, k) = with_sim(handle, |e| {
-            let n = e.sim.run().bodies() as u64;
-            Ok(match e.sim.granular() {
-                Some(g) => (n, g.pipeline.contacts() as u64, g.bodies.kinetic_energy()),
-                None => (
-                    n,
-                    e.sim.last_value("contacts").map_or(0, |c| c as u64),
-                    e.sim.last_value("kinetic_energy").unwrap_or(f64::NAN),
-                ),
-            })
+            let run = e.sim.run();
+            let n = run.bodies() as u64;
+            let contacts = run.contacts().map_or(0, |c| c as u64);
+            Ok((n, contacts, run.kinetic_energy()))
         })?;
         put(bodies, n, "bodies")?;
         put(contacts, c, "contacts")?;
@@ -744,8 +693,8 @@ pub extern "C" fn fractum_copy_radii(
     buf: *mut f64,
     len: usize,
 ) -> FractumStatus {
-    copy_body_values(handle, buf, len, |sim| match sim.granular() {
-        Some(g) => Ok(g.bodies.radius.clone()),
+    copy_body_values(handle, buf, len, |sim| match sim.run().radii() {
+        Some(r) => Ok(r),
         None => Err(not_for_model(
             "fractum_copy_radii",
             sim.run(),

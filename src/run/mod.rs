@@ -80,6 +80,8 @@ pub trait Faces {
     fn face_stresses(&self) -> (f64, f64);
     /// Area (m²) of the top and bottom faces.
     fn face_area(&self) -> f64;
+    /// Axial strain of the box between the faces (compression positive).
+    fn axial_strain(&self) -> f64;
 }
 
 /// A model's physics, as the runner drives it. Everything about time, outputs and
@@ -177,6 +179,19 @@ pub trait Model: Send + Sized {
             b.orientation.iter().map(|q| [q.w, q.i, q.j, q.k]).collect()
         })
     }
+    /// Body radii (m; the bounding radius of non-spherical bodies), for models of round
+    /// grains.
+    fn radii(&self) -> Option<Vec<f64>> {
+        None
+    }
+    /// Body–body contacts now, for models that count them.
+    fn contacts(&self) -> Option<usize> {
+        None
+    }
+    /// Kinetic energy (J) now.
+    fn kinetic_energy(&self) -> f64 {
+        self.rigid_bodies().map_or(f64::NAN, |b| b.kinetic_energy())
+    }
     /// The driven faces, for models that have them.
     fn faces_mut(&mut self) -> Option<&mut dyn Faces> {
         None
@@ -225,6 +240,12 @@ pub trait Run: Send {
     fn positions(&self) -> Vec<Vec3>;
     fn velocities(&self) -> Vec<Vec3>;
     fn orientations(&self) -> Vec<[f64; 4]>;
+    /// Body radii (m), for models of round grains (see [`Model::radii`]).
+    fn radii(&self) -> Option<Vec<f64>>;
+    /// Body–body contacts now, for models that count them.
+    fn contacts(&self) -> Option<usize>;
+    /// Kinetic energy (J) now.
+    fn kinetic_energy(&self) -> f64;
     /// The driven faces, for models that have them (granular samples in a box).
     fn faces(&self) -> Option<&dyn Faces>;
     /// Drives the top (z+) and bottom (z-) faces from outside from now on, at `top` and
@@ -368,20 +389,24 @@ impl<M: Model> Runner<M> {
                 self.clock.time
             )));
         }
+        if !self.model.variable_step() {
+            // Whole steps only: refuse a time off the grid before taking any step.
+            let steps = (time - self.clock.time) / self.clock.dt;
+            if (steps - steps.round()).abs() > 1e-9 * steps.max(1.0) {
+                return Err(Error::run(format!(
+                    "cannot land on t = {time:e} s: this run's integrator takes whole steps of {:e} s only, and t is {steps:.6} steps away",
+                    self.clock.dt
+                )));
+            }
+            return self.advance(steps.round() as u64);
+        }
         self.on_threads(|run| {
             // A remainder below this is rounding, not a step to take.
             let tiny = 1e-9 * run.clock.dt;
             while time - run.clock.time > tiny && !run.model.stopped() {
                 let h = (time - run.clock.time).min(run.clock.dt);
                 if time - run.clock.time - h <= tiny {
-                    let last = time - run.clock.time;
-                    if last != run.clock.dt && !run.model.variable_step() {
-                        return Err(Error::run(format!(
-                            "cannot land on t = {time:e} s: this run's integrator takes whole steps of {:e} s only",
-                            run.clock.dt
-                        )));
-                    }
-                    run.step_by(last);
+                    run.step_by(time - run.clock.time);
                     run.clock.time = time;
                 } else {
                     run.step_by(h);
@@ -514,6 +539,15 @@ impl<M: Model> Run for Runner<M> {
     }
     fn orientations(&self) -> Vec<[f64; 4]> {
         self.model.orientations()
+    }
+    fn radii(&self) -> Option<Vec<f64>> {
+        self.model.radii()
+    }
+    fn contacts(&self) -> Option<usize> {
+        self.model.contacts()
+    }
+    fn kinetic_energy(&self) -> f64 {
+        self.model.kinetic_energy()
     }
     fn faces(&self) -> Option<&dyn Faces> {
         self.model.faces()

@@ -723,6 +723,14 @@ impl Model for Beam2d {
         )
     }
 
+    fn contacts(&self) -> Option<usize> {
+        Some(self.state.contacts)
+    }
+
+    fn kinetic_energy(&self) -> f64 {
+        self.state.polygons.kinetic_energy()
+    }
+
     fn positions(&self) -> Vec<Vec3> {
         let p = &self.state.polygons;
         (0..p.len())

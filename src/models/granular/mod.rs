@@ -717,6 +717,14 @@ impl Model for Granular {
         Some(&self.state.bodies)
     }
 
+    fn radii(&self) -> Option<Vec<f64>> {
+        Some(self.state.bodies.radius.clone())
+    }
+
+    fn contacts(&self) -> Option<usize> {
+        Some(self.pipeline.contacts())
+    }
+
     fn faces_mut(&mut self) -> Option<&mut dyn Faces> {
         self.state.walls.is_box.then_some(self as &mut dyn Faces)
     }
@@ -764,6 +772,10 @@ impl Faces for Granular {
     fn face_area(&self) -> f64 {
         let size = self.state.walls.box_size();
         size.x * size.y
+    }
+
+    fn axial_strain(&self) -> f64 {
+        Granular::axial_strain(self)
     }
 }
 
