@@ -50,8 +50,9 @@ pub struct Granular {
     pub integrator: VelocityVerlet,
     /// Gravity (m/s²) with the `gravity` effect, for the energy account.
     pub gravity: Option<Vec3>,
-    /// `output.report_strains` or the default list (see [`Granular::report_strains`]).
-    report_strains: Vec<f64>,
+    /// `output.report_strains` or the default list, before the loading picks those it
+    /// reaches (see [`Granular::report_strains`]).
+    strains_asked: Vec<f64>,
     /// `time.dt = "auto"`: the step may be shortened for breaking grains' pieces.
     pub auto_dt: bool,
     pub state: GranularState,
@@ -192,24 +193,12 @@ impl Granular {
         if fracture {
             columns.extend_from_slice(&probe::FRACTURE_COLUMNS);
         }
-        let track_orientation = fracture || bodies.shape.iter().any(|s| !s.is_sphere());
-        let report_strains = scene
-            .output
-            .report_strains
-            .clone()
-            .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]);
         let fracture_state =
             fracture.then(|| GrainFracture::new(fracture_params(scene, &cfg), scene.seed, &bodies));
-        let mut model = Granular {
-            pipeline: pipeline(scene, &cfg),
-            integrator: VelocityVerlet { track_orientation },
-            gravity: scene
-                .has_effect(EffectKind::Gravity)
-                .then(|| Vec3::from(scene.gravity.acceleration)),
-            report_strains,
-            auto_dt: scene.time.dt == DtSpec::Auto,
+        let mut model = Granular::with_state(
+            scene,
             cfg,
-            state: GranularState {
+            GranularState {
                 forces: Forces::new(bodies.len()),
                 bodies,
                 walls,
@@ -223,7 +212,7 @@ impl Granular {
                 energy: None,
                 psd: Vec::new(),
             },
-        };
+        );
         model.evaluate_forces(dt, false);
         if model.state.fracture.is_some() {
             model.state.energy = Some(EnergyAccount::new(
@@ -239,6 +228,29 @@ impl Granular {
             columns,
             warnings: Vec::new(),
         })
+    }
+
+    /// The model of `state` under its scene: what is built from the scene (pipeline,
+    /// integrator, gravity, report strains) around the persistent state.
+    fn with_state(scene: &Scene, cfg: GranularScene, state: GranularState) -> Granular {
+        let fracture = scene.has_effect(EffectKind::Fracture);
+        Granular {
+            pipeline: pipeline(scene, &cfg),
+            integrator: VelocityVerlet {
+                track_orientation: fracture || state.bodies.shape.iter().any(|s| !s.is_sphere()),
+            },
+            gravity: scene
+                .has_effect(EffectKind::Gravity)
+                .then(|| Vec3::from(scene.gravity.acceleration)),
+            strains_asked: scene
+                .output
+                .report_strains
+                .clone()
+                .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]),
+            auto_dt: scene.time.dt == DtSpec::Auto,
+            cfg,
+            state,
+        }
     }
 
     fn evaluate_forces(&mut self, dt: f64, update_history: bool) {
@@ -426,7 +438,7 @@ impl Granular {
             Loading::Oedometer { end_strain, .. } => end_strain,
             _ => return Vec::new(),
         };
-        self.report_strains
+        self.strains_asked
             .iter()
             .copied()
             .filter(|&e| e <= end + 1e-12)
@@ -573,27 +585,9 @@ impl Model for Granular {
         type Saved = (GranularState, Vec<(String, Vec<u8>)>);
         let (state, effects): Saved = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's granular state is damaged ({e})")))?;
-        let cfg: GranularScene = scene.section()?;
-        let mut pipeline = pipeline(scene, &cfg);
-        pipeline.restore(&effects)?;
-        let fracture = scene.has_effect(EffectKind::Fracture);
-        Ok(Granular {
-            pipeline,
-            integrator: VelocityVerlet {
-                track_orientation: fracture || state.bodies.shape.iter().any(|s| !s.is_sphere()),
-            },
-            gravity: scene
-                .has_effect(EffectKind::Gravity)
-                .then(|| Vec3::from(scene.gravity.acceleration)),
-            report_strains: scene
-                .output
-                .report_strains
-                .clone()
-                .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]),
-            auto_dt: scene.time.dt == DtSpec::Auto,
-            cfg,
-            state,
-        })
+        let mut model = Granular::with_state(scene, scene.section()?, state);
+        model.pipeline.restore(&effects)?;
+        Ok(model)
     }
 
     fn bodies(&self) -> usize {
