@@ -97,7 +97,7 @@ pub fn explain(scene: &Scene) -> Result<String> {
     };
     let integrator = match scene.time.integrator {
         IntegratorKind::Gear5 => "Gear fifth-order predictor-corrector",
-        IntegratorKind::VelocityVerlet | IntegratorKind::TchamwaWielgosz => "velocity Verlet",
+        _ => "velocity Verlet",
     };
     let _ = writeln!(s, "integrator: {integrator}, dt {dt}");
     let vtk = if scene.output.vtk > 0 {

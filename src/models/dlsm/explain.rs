@@ -123,13 +123,11 @@ pub fn explain(scene: &Scene) -> Result<String> {
     };
     let _ = writeln!(s, "loading: {loading}");
     let integrator = match scene.time.integrator {
-        IntegratorKind::VelocityVerlet | IntegratorKind::Gear5 => {
-            "velocity Verlet (phi = 0.5)".to_string()
-        }
         IntegratorKind::TchamwaWielgosz => format!(
             "Tchamwa-Wielgosz, phi = {}",
             scene.time.phi.unwrap_or(DEFAULT_PHI)
         ),
+        _ => "velocity Verlet (phi = 0.5)".to_string(),
     };
     let dt = match scene.time.dt {
         DtSpec::Auto => format!(
