@@ -8,7 +8,7 @@ cargo build --release -p fractum-fmu
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/binaries/linux64" "$stage/resources" dist
-cp target/release/libfractum_shpb.so "$stage/binaries/linux64/fractum_shpb.so"
+cp "${CARGO_TARGET_DIR:-target}/release/libfractum_shpb.so" "$stage/binaries/linux64/fractum_shpb.so"
 cp fmu/modelDescription.xml "$stage/"
 cp scenes/shpb_sand.toml "$stage/resources/"
 rm -f dist/.Fractum.fmu.tmp

@@ -39,6 +39,6 @@ bash scripts/pack_fmu.sh
 
 step "Python tests (tests/python)"
 cargo build --release -p fractum-ffi
-FRACTUM_LIB="$PWD/target/release/libfractum.so" .venv/bin/python -m pytest -q tests/python
+FRACTUM_LIB="${CARGO_TARGET_DIR:-$PWD/target}/release/libfractum.so" .venv/bin/python -m pytest -q tests/python
 
 step "all tests passed"
