@@ -1,6 +1,7 @@
 //! The registry: the only place that names every model. It reads a scene's `model.kind`,
 //! checks the scene against that model's own section, and builds, restores and explains its
-//! runs. Adding a model means a folder beside these and one line in each table below.
+//! runs. Adding a model means a folder beside these, its `pub mod` line and one entry in
+//! [`MODELS`].
 
 pub mod beam2d;
 pub mod dlsm;
@@ -177,17 +178,12 @@ fn check<M: Model + 'static>(scene: &Scene) -> Result<()> {
         } else {
             format!("{path}.{field}")
         };
-        let owners: Vec<&str> = MODELS
-            .iter()
-            .filter(|e| e.kind != M::KIND && (e.knows)(&single_key(&scene.tables, &key)))
-            .map(|e| e.kind)
-            .collect();
-        let text = if !owners.is_empty() {
+        let table = single_key(&scene.tables, &key);
+        let text = if let Some(owner) = others(M::KIND, |e| (e.knows)(&table)) {
             text.replacen(
                 &format!("unknown key `{key}`"),
                 &format!(
-                    "`{key}` is a key of model.kind = \"{}\", not of this scene's model.kind = \"{}\"",
-                    owners.join("\" and \""),
+                    "`{key}` is a key of {owner}, not of this scene's model.kind = \"{}\"",
                     M::KIND
                 ),
                 1,
