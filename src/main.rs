@@ -60,6 +60,10 @@ enum Command {
         dir: PathBuf,
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
+        /// LAMMPS: a script for the Fractum LAMMPS plugin (make lammps-plugin), with the
+        /// grains' shapes in the data file and Fractum's first forces in forces0.csv.
+        #[arg(long)]
+        plugin: bool,
         #[arg(long)]
         quiet: bool,
     },
@@ -149,6 +153,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             scene,
             dir,
             set,
+            plugin,
             quiet,
         } => {
             let scene = Scene::load(&scene, &set)?;
@@ -157,6 +162,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             let written = fractum::models::granular::export::export(
                 scene,
                 format == ExportFormat::Lammps,
+                plugin,
                 &dir,
                 &mut note,
             )?;

@@ -513,13 +513,22 @@ out.close()
 
 /// `fractum export lammps|yade`: the scene's sample and a peer-code script that runs it
 /// (`lammps`: packing.data and in.fractum; otherwise packing.txt and fractum_yade.py) in
-/// `dir`. Returns the line that says what was written.
+/// `dir`. With `plugin` (LAMMPS only) the script uses the Fractum LAMMPS plugin, the data file
+/// carries the grains' shapes, and forces0.csv holds Fractum's first force evaluation. Returns
+/// the line that says what was written.
 pub fn export(
     scene: Scene,
     lammps: bool,
+    plugin: bool,
     dir: &std::path::Path,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<String> {
+    if plugin && !lammps {
+        return Err(Error::input(
+            &scene.source.label,
+            "--plugin applies to `fractum export lammps` only",
+        ));
+    }
     let cfg: GranularScene = scene.section()?;
     let sample = super::sample::build(&scene, &cfg, progress)?;
     let count = sample.bodies.len();
@@ -527,8 +536,17 @@ pub fn export(
     let plan = RunPlan::of(&sim);
     let name = &sim.scene.name;
     let (bodies, walls) = (&sim.model.state.bodies, &sim.model.state.walls);
-    let files = if lammps {
-        [
+    let files: Vec<(&str, String)> = if plugin {
+        vec![
+            ("packing.data", plugin_data(&sim, name)),
+            (
+                "in.fractum",
+                plugin_input(&sim, "packing.data", "series_lammps.csv")?,
+            ),
+            ("forces0.csv", first_forces(&sim)),
+        ]
+    } else if lammps {
+        vec![
             (
                 "packing.data",
                 lammps_data(bodies, walls, sim.model.cfg.material.density, name),
@@ -539,7 +557,7 @@ pub fn export(
             ),
         ]
     } else {
-        [
+        vec![
             ("packing.txt", yade_text(bodies, walls, name)),
             (
                 "fractum_yade.py",
@@ -551,14 +569,310 @@ pub fn export(
     for (file, text) in &files {
         crate::output::write_atomic(&dir.join(file), text.as_bytes())?;
     }
+    let names: Vec<&str> = files.iter().map(|f| f.0).collect();
     Ok(format!(
-        "{name}: wrote {} and {} in {} ({count} spheres, {} steps of {:.4e} s)",
-        files[0].0,
-        files[1].0,
+        "{name}: wrote {} in {} ({count} grains, {} steps of {:.4e} s)",
+        names.join(", "),
         dir.display(),
         sim.clock.end_step,
         sim.clock.dt
     ))
+}
+
+/// The box faces of the plugin (`fix fractum/platens`), in its order.
+const PLUGIN_FACES: [&str; 6] = ["xlo", "xhi", "ylo", "yhi", "zlo", "zhi"];
+
+/// The face of `fix fractum/platens` a wall is, from its normal (into the bodies' side), and
+/// the position of its plane along that axis; `None` for a wall not normal to an axis.
+fn plugin_face(normal: &Vec3, point: &Vec3) -> Option<(usize, f64)> {
+    for axis in 0..3 {
+        let mut e = Vec3::zeros();
+        e[axis] = 1.0;
+        if *normal == e {
+            return Some((2 * axis, point[axis]));
+        }
+        if *normal == -e {
+            return Some((2 * axis + 1, point[axis]));
+        }
+    }
+    None
+}
+
+/// The plugin's data file: `atom_style sphere` atoms (IDs from 1 in Fractum's order, the
+/// bounding diameter, the density that gives each body its mass) and the `FractumBodies`
+/// section that `fix frbody` (property/atom) reads: per atom the shape (sphere flag, semi-axes,
+/// octant origin and shape-to-body turn), the orientation, the principal inertia and the grain
+/// state (Weibull factor, sample grain, splits, intact springs). Every number is written at
+/// full precision (shortest round trip).
+pub fn plugin_data(sim: &Simulation, title: &str) -> String {
+    let st = &sim.model.state;
+    let (bodies, walls) = (&st.bodies, &st.walls);
+    let (lo, hi) = bounds(bodies, walls);
+    let mut s = format!(
+        "{title} (Fractum, units si, atom_style sphere, Fractum plugin sections)\n\n{} atoms\n1 atom types\n\n",
+        bodies.len()
+    );
+    for (a, name) in ["x", "y", "z"].iter().enumerate() {
+        let _ = writeln!(s, "{:e} {:e} {name}lo {name}hi", lo[a], hi[a]);
+    }
+    s.push_str("\nAtoms # sphere\n\n");
+    for i in 0..bodies.len() {
+        let (p, r) = (bodies.pos[i], bodies.radius[i]);
+        let density = bodies.mass[i] / crate::shape::sphere_volume(r);
+        let _ = writeln!(
+            s,
+            "{} 1 {:e} {:e} {:e} {:e} {:e}",
+            i + 1,
+            2.0 * r,
+            density,
+            p.x,
+            p.y,
+            p.z
+        );
+    }
+    s.push_str("\nVelocities\n\n");
+    for (i, (v, w)) in bodies.vel.iter().zip(&bodies.omega).enumerate() {
+        let _ = writeln!(
+            s,
+            "{} {:e} {:e} {:e} {:e} {:e} {:e}",
+            i + 1,
+            v.x,
+            v.y,
+            v.z,
+            w.x,
+            w.y,
+            w.z
+        );
+    }
+    s.push_str("\nFractumBodies\n\n");
+    let fracture = st.fracture.as_ref();
+    for i in 0..bodies.len() {
+        let q = bodies.orientation[i];
+        let (sphere, semi, origin, to_body) = match &bodies.shape[i] {
+            crate::shape::Shape::PolyEllipsoid {
+                pe,
+                origin,
+                to_body,
+            } => (0, pe.semi, *origin, *to_body),
+            _ => (
+                1,
+                [bodies.radius[i]; 6],
+                Vec3::zeros(),
+                nalgebra::UnitQuaternion::identity(),
+            ),
+        };
+        let mut row = vec![sphere as f64];
+        row.extend_from_slice(&semi);
+        row.extend_from_slice(origin.as_slice());
+        row.extend_from_slice(&[to_body.w, to_body.i, to_body.j, to_body.k]);
+        row.extend_from_slice(&[q.w, q.i, q.j, q.k]);
+        row.extend_from_slice(bodies.inertia[i].as_slice());
+        let (strength, grain, generation, bonds) = match fracture {
+            Some(f) => (
+                f.strength[i],
+                f.origin[i] as f64 + 1.0,
+                f.generation[i] as f64,
+                f.bonds[i] as f64,
+            ),
+            None => (1.0, i as f64 + 1.0, 0.0, 0.0),
+        };
+        row.extend_from_slice(&[strength, grain, generation, bonds]);
+        let _ = write!(s, "{}", i + 1);
+        for v in row {
+            let _ = write!(s, " {v:e}");
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Fractum's first force evaluation (the one before the first step), per body: the CSV
+/// `id,fx,fy,fz,tx,ty,tz` (N, N m) that a LAMMPS `run 0` with the plugin must reproduce.
+pub fn first_forces(sim: &Simulation) -> String {
+    let f = &sim.model.state.forces;
+    let mut s = String::from("id,fx,fy,fz,tx,ty,tz\n");
+    for i in 0..f.force.len() {
+        let (a, t) = (f.force[i], f.torque[i]);
+        let _ = writeln!(
+            s,
+            "{},{:e},{:e},{:e},{:e},{:e},{:e}",
+            i + 1,
+            a.x,
+            a.y,
+            a.z,
+            t.x,
+            t.y,
+            t.z
+        );
+    }
+    s
+}
+
+/// A LAMMPS input that runs the scene with the Fractum plugin from `data_file`: Fractum's
+/// contact law for spheres and poly-ellipsoids (`pair fractum/granular`), its integrator
+/// (`fix fractum/nve/polyell`), its walls as moving box faces (`fix fractum/platens`) and,
+/// with the `fracture` effect, grain fracture (`fix fractum/fracture`), at Fractum's time
+/// step for Fractum's number of steps. `series_file` gets, every `output.every` steps, the
+/// time, each face's force (N, the grains on the face along its axis) and position (m), the
+/// number of atoms and, with fracture, the splits and grains broken.
+pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Result<String> {
+    let plan = RunPlan::of(sim);
+    check_exportable(&plan, "LAMMPS")?;
+    let scene = plan.scene;
+    let st = &sim.model.state;
+    let m = &plan.cfg.material;
+    if plan.has(EffectKind::Gravity) {
+        return Err(Error::input(
+            &scene.source.label,
+            "gravity is not exported to the Fractum LAMMPS plugin (use LAMMPS's fix gravity by hand)",
+        ));
+    }
+    let every = scene.output.every.max(1);
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "# LAMMPS input written by `fractum export lammps --plugin` from {} (scene \"{}\").\n\
+         # Needs the Fractum plugin: make lammps-plugin (dist/fractumplugin.so); run with\n\
+         #   lmp -in in.fractum -var plugin /path/to/dist/fractumplugin.so\n\
+         # Units si: m, kg, s, N, Pa.",
+        scene.source.label, scene.name
+    );
+    let boundary = if st.walls.is_empty() {
+        "m m m"
+    } else {
+        "f f f"
+    };
+    let plugin = std::env::current_exe()
+        .ok()
+        .and_then(|exe| exe.parent()?.parent()?.parent().map(|p| p.join("dist")))
+        .map(|d| d.join("fractumplugin.so").display().to_string())
+        .unwrap_or_else(|| "dist/fractumplugin.so".into());
+    let _ = writeln!(
+        s,
+        "variable        plugin index {plugin}\nplugin          load ${{plugin}}\n\
+         units           si\natom_style      sphere\natom_modify     map array\ndimension       3\n\
+         boundary        {boundary}\nnewton          off\ncomm_modify     vel yes\n\
+         # Fractum's per-atom data: shape, orientation, inertia, grain (read from the data file);\n\
+         # cohesive springs (21 numbers per spring) and the faces' contact histories (7 per face)\n\
+         fix             frbody all property/atom d2_fr_shape 14 d2_fr_quat 4 d2_fr_inertia 3 d2_fr_grain 4 ghost yes\n\
+         fix             frstate all property/atom d2_fr_springs {} d2_fr_walls 42\n\
+         read_data       {data_file} fix frbody NULL FractumBodies\n",
+        21 * plan.cfg.fracture.springs.max(1)
+    );
+    let mut coeff = format!("young {:e} poisson {:e}", m.young, m.poisson());
+    if plan.has(EffectKind::Damping) {
+        let _ = write!(coeff, " restitution {:e}", m.restitution);
+    }
+    if plan.has(EffectKind::Friction) {
+        let _ = write!(coeff, " friction {:e}", m.friction);
+    }
+    let skin = plan
+        .cfg
+        .neighbor
+        .skin
+        .unwrap_or(0.4 * plan.bodies.min_radius());
+    let _ = writeln!(
+        s,
+        "pair_style      fractum/granular\npair_coeff      * * {coeff}\n\
+         neighbor        {skin:e} bin\nneigh_modify    delay 0 every 1 check yes\n\
+         timestep        {:.17e}\nfix             integrate all fractum/nve/polyell",
+        plan.dt
+    );
+    let mut faces = String::new();
+    let mut present = Vec::new();
+    for w in &st.walls.walls {
+        let Some((face, pos)) = plugin_face(&w.normal, &w.point) else {
+            return Err(Error::input(
+                &scene.source.label,
+                format!(
+                    "wall {} is not normal to an axis: the plugin's platens are box faces",
+                    w.label
+                ),
+            ));
+        };
+        let _ = write!(faces, " {} {pos:.17e}", PLUGIN_FACES[face]);
+        present.push(face);
+    }
+    // The driven faces: the loading's speeds at the start (constant for the oedometer and the
+    // platens).
+    let mut drive = String::new();
+    for w in &st.walls.walls {
+        let (face, _) = plugin_face(&w.normal, &w.point).expect("checked above");
+        let speed = match plan.loading {
+            Loading::Oedometer {
+                strain_rate,
+                height0,
+                ..
+            } if face == 5 => -strain_rate * height0,
+            Loading::Platens { speed, .. } if face == 5 => -speed,
+            _ => w.velocity[face / 2],
+        };
+        if speed != 0.0 {
+            let _ = write!(drive, " vel {} {speed:.17e}", PLUGIN_FACES[face]);
+        }
+    }
+    if !present.is_empty() {
+        let mut line = format!("fix             walls all fractum/platens{faces}{drive}");
+        if plan.has(EffectKind::Friction) {
+            let _ = write!(line, " friction {:e}", plan.wall_friction());
+        }
+        let _ = writeln!(s, "{line}");
+    }
+    let fracture = plan.has(EffectKind::Fracture);
+    if let Some(f) = st.fracture.as_ref().filter(|_| fracture) {
+        let p = &f.params;
+        let mut line = format!(
+            "fix             fracture all fractum/fracture mi {:e} sigma_c {:e} sigma_f {:e} critical_contacts {} ideal_plane {} plane_jitter {} seed {}",
+            p.mi,
+            p.sigma_c,
+            p.sigma_f,
+            p.critical_contacts,
+            if p.ideal_plane { "yes" } else { "no" },
+            if p.plane_jitter { "yes" } else { "no" },
+            scene.seed
+        );
+        if let Some((w, xm)) = p.weibull {
+            let _ = write!(line, " weibull {w:e} {xm:e}");
+        }
+        if let Some((_, ns)) = p.cohesion {
+            let _ = write!(line, " cohesion {:e} {ns}", plan.cfg.fracture.toughness);
+        }
+        let _ = writeln!(s, "{line}");
+    }
+    let mut columns = vec!["time".to_string()];
+    let mut values = vec!["time".to_string()];
+    for &face in &present {
+        columns.push(format!("force_{}", PLUGIN_FACES[face]));
+        values.push(format!("f_walls[{}]", face + 1));
+    }
+    for &face in &present {
+        columns.push(format!("position_{}", PLUGIN_FACES[face]));
+        values.push(format!("f_walls[{}]", face + 7));
+    }
+    columns.push("atoms".into());
+    values.push("atoms".into());
+    if fracture {
+        for (c, k) in [("splits", 1), ("broken_particles", 2), ("springs", 5)] {
+            columns.push(c.into());
+            values.push(format!("f_fracture[{k}]"));
+        }
+    }
+    let _ = writeln!(
+        s,
+        "thermo_style    custom {}",
+        values.join(" ").replace("time", "step time")
+    );
+    let line: Vec<String> = values.iter().map(|v| format!("$({v}:%.10e)")).collect();
+    let line = line.join(",");
+    let _ = writeln!(
+        s,
+        "fix             series all print {every} \"{line}\" file {series_file} screen no title \"{}\"\n\
+         thermo          {}\nrun             {}",
+        columns.join(","),
+        (plan.steps / 20).max(every),
+        plan.steps
+    );
+    Ok(s)
 }
 
 #[cfg(test)]
