@@ -36,7 +36,6 @@ pub struct VelocityVerlet {
 impl VelocityVerlet {
     /// First half kick and drift: velocities to t + dt/2, positions to t + dt.
     pub fn kick_drift(&self, b: &mut Bodies, f: &Forces, dt: f64) {
-        let half = 0.5 * dt;
         let track = self.track_orientation;
         let Bodies {
             pos,
@@ -49,31 +48,24 @@ impl VelocityVerlet {
         } = b;
         let update =
             |i: usize, x: &mut Vec3, v: &mut Vec3, w: &mut Vec3, q: &mut UnitQuaternion<f64>| {
-                half_kick(v, f.force[i], inv_mass[i], dt);
-                drift(x, *v, dt);
-                let inv_i = &inv_inertia[i];
-                if !track {
-                    *w += f.torque[i].component_mul(inv_i) * half;
-                } else if is_isotropic(inv_i) {
-                    *w += f.torque[i].component_mul(inv_i) * half;
-                    *q = advance_orientation(q, w, dt);
-                } else {
-                    let l = angular_momentum(q, w, inv_i) + f.torque[i] * half;
-                    // Turn by the angular velocity at the half-turned orientation (midpoint
-                    // rule): second order in dt for the orientation, hence the energy.
-                    let w_start = angular_velocity(q, &l, inv_i);
-                    let q_half = advance_orientation(q, &w_start, half);
-                    let w_mid = angular_velocity(&q_half, &l, inv_i);
-                    *q = advance_orientation(q, &w_mid, dt);
-                    *w = angular_velocity(q, &l, inv_i);
-                }
+                kick_drift_body(
+                    x,
+                    v,
+                    w,
+                    q,
+                    &f.force[i],
+                    &f.torque[i],
+                    inv_mass[i],
+                    &inv_inertia[i],
+                    dt,
+                    track,
+                );
             };
         super::each_body(pos, vel, omega, orientation, update);
     }
 
     /// Second half kick: velocities to t + dt with the new forces.
     pub fn kick(&self, b: &mut Bodies, f: &Forces, dt: f64) {
-        let half = 0.5 * dt;
         let track = self.track_orientation;
         let Bodies {
             vel,
@@ -85,17 +77,79 @@ impl VelocityVerlet {
         } = b;
         let orientation = &*orientation;
         let update = |(i, (v, w)): (usize, (&mut Vec3, &mut Vec3))| {
-            half_kick(v, f.force[i], inv_mass[i], dt);
-            let inv_i = &inv_inertia[i];
-            if track && !is_isotropic(inv_i) {
-                let q = &orientation[i];
-                let l = angular_momentum(q, w, inv_i) + f.torque[i] * half;
-                *w = angular_velocity(q, &l, inv_i);
-            } else {
-                *w += f.torque[i].component_mul(inv_i) * half;
-            }
+            kick_body(
+                v,
+                w,
+                &orientation[i],
+                &f.force[i],
+                &f.torque[i],
+                inv_mass[i],
+                &inv_inertia[i],
+                dt,
+                track,
+            );
         };
         super::each_velocity(vel, omega, update);
+    }
+}
+
+/// One body's first half kick and drift (what [`VelocityVerlet::kick_drift`] does to each
+/// body): position `x`, velocity `v`, angular velocity `w` and orientation `q` (body frame to
+/// world) under `force` and `torque`, with inverse mass and inverse principal moments.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn kick_drift_body(
+    x: &mut Vec3,
+    v: &mut Vec3,
+    w: &mut Vec3,
+    q: &mut UnitQuaternion<f64>,
+    force: &Vec3,
+    torque: &Vec3,
+    inv_mass: f64,
+    inv_i: &Vec3,
+    dt: f64,
+    track: bool,
+) {
+    let half = 0.5 * dt;
+    half_kick(v, *force, inv_mass, dt);
+    drift(x, *v, dt);
+    if !track {
+        *w += torque.component_mul(inv_i) * half;
+    } else if is_isotropic(inv_i) {
+        *w += torque.component_mul(inv_i) * half;
+        *q = advance_orientation(q, w, dt);
+    } else {
+        let l = angular_momentum(q, w, inv_i) + torque * half;
+        // Turn by the angular velocity at the half-turned orientation (midpoint rule): second
+        // order in dt for the orientation, hence the energy.
+        let w_start = angular_velocity(q, &l, inv_i);
+        let q_half = advance_orientation(q, &w_start, half);
+        let w_mid = angular_velocity(&q_half, &l, inv_i);
+        *q = advance_orientation(q, &w_mid, dt);
+        *w = angular_velocity(q, &l, inv_i);
+    }
+}
+
+/// One body's second half kick (what [`VelocityVerlet::kick`] does to each body).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn kick_body(
+    v: &mut Vec3,
+    w: &mut Vec3,
+    q: &UnitQuaternion<f64>,
+    force: &Vec3,
+    torque: &Vec3,
+    inv_mass: f64,
+    inv_i: &Vec3,
+    dt: f64,
+    track: bool,
+) {
+    half_kick(v, *force, inv_mass, dt);
+    if track && !is_isotropic(inv_i) {
+        let l = angular_momentum(q, w, inv_i) + torque * (0.5 * dt);
+        *w = angular_velocity(q, &l, inv_i);
+    } else {
+        *w += torque.component_mul(inv_i) * (0.5 * dt);
     }
 }
 
