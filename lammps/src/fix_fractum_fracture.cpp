@@ -1,0 +1,562 @@
+#include "fix_fractum_fracture.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "domain.h"
+#include "error.h"
+#include "force.h"
+#include "library.h"
+#include "pair_fractum_granular.h"
+#include "update.h"
+#include "utils.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+static const char *STYLE = "fix fractum/fracture";
+static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [cohesion KIC N] "
+                           "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
+                           "[seed N]";
+
+/* Random streams of the plugin's draws (keyed by tag and generation: the same on any rank
+   count). */
+enum { KEY_STRENGTH = 1, KEY_JITTER = 2 };
+
+FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  bool have_mi = false, have_sc = false, have_sf = false;
+  auto yesno = [&](int k) -> int {
+    std::string v = k < narg ? arg[k] : "";
+    if (v == "yes") return 1;
+    if (v == "no") return 0;
+    error->all(FLERR, "{}: {} takes yes or no, not '{}'", STYLE, arg[k - 1], v);
+    return 0;
+  };
+  auto num = [&](int k, const char *what) -> double {
+    if (k >= narg) error->all(FLERR, "{}: {} needs a value: {}", STYLE, what, USAGE);
+    return utils::numeric(FLERR, arg[k], false, lmp);
+  };
+  int iarg = 3;
+  while (iarg < narg) {
+    std::string key = arg[iarg];
+    if (key == "mi") {
+      mi = num(iarg + 1, "mi");
+      if (!(mi > 0)) error->all(FLERR, "{}: mi = {} must be > 0", STYLE, mi);
+      have_mi = true;
+      iarg += 2;
+    } else if (key == "sigma_c") {
+      sigma_c = num(iarg + 1, "sigma_c");
+      if (!(sigma_c > 0)) error->all(FLERR, "{}: sigma_c = {} must be > 0 (Pa)", STYLE, sigma_c);
+      have_sc = true;
+      iarg += 2;
+    } else if (key == "sigma_f") {
+      sigma_f = num(iarg + 1, "sigma_f");
+      if (!(sigma_f > 0)) error->all(FLERR, "{}: sigma_f = {} must be > 0 (Pa)", STYLE, sigma_f);
+      have_sf = true;
+      iarg += 2;
+    } else if (key == "weibull") {
+      weibull_w = num(iarg + 1, "weibull");
+      weibull_xm = num(iarg + 2, "weibull");
+      if (!(weibull_w > 0) || !(weibull_xm > 0))
+        error->all(FLERR, "{}: weibull W XM need W > 0 and XM > 0 (m), got {} {}", STYLE,
+                   weibull_w, weibull_xm);
+      weibull = 1;
+      iarg += 3;
+    } else if (key == "cohesion") {
+      kic = num(iarg + 1, "cohesion");
+      double n = num(iarg + 2, "cohesion");
+      if (!(kic > 0)) error->all(FLERR, "{}: cohesion KIC = {} must be > 0 (Pa m^0.5)", STYLE, kic);
+      if (!(n >= 1 && n <= 16 && n == std::floor(n)))
+        error->all(FLERR, "{}: cohesion springs = {} must be an integer in 1..16", STYLE, n);
+      springs = static_cast<int>(n);
+      cohesion = 1;
+      iarg += 3;
+    } else if (key == "critical_contacts") {
+      double n = num(iarg + 1, "critical_contacts");
+      if (!(n >= 1 && n == std::floor(n)))
+        error->all(FLERR, "{}: critical_contacts = {} must be an integer >= 1", STYLE, n);
+      critical_contacts = static_cast<int>(n);
+      iarg += 2;
+    } else if (key == "ideal_plane") {
+      ideal_plane = yesno(iarg + 1);
+      iarg += 2;
+    } else if (key == "plane_jitter") {
+      plane_jitter = yesno(iarg + 1);
+      iarg += 2;
+    } else if (key == "seed") {
+      double s = num(iarg + 1, "seed");
+      if (!(s >= 0 && s == std::floor(s)))
+        error->all(FLERR, "{}: seed = {} must be an integer >= 0", STYLE, s);
+      seed = static_cast<bigint>(s);
+      iarg += 2;
+    } else {
+      error->all(FLERR, "{}: unknown argument {}; allowed: {}", STYLE, key, USAGE);
+    }
+  }
+  if (!have_mi || !have_sc || !have_sf)
+    error->all(FLERR, "{}: mi, sigma_c and sigma_f are required: {}", STYLE, USAGE);
+  force_reneighbor = 1;
+  next_reneighbor = -1;
+  nevery = 1;
+  vector_flag = 1;
+  size_vector = 7;
+  global_freq = 1;
+  extvector = 0;
+  restart_global = 1;
+}
+
+int FixFractumFracture::setmask()
+{
+  return PRE_EXCHANGE | POST_FORCE | END_OF_STEP;
+}
+
+void FixFractumFracture::arrays()
+{
+  const char *hint = "declare `fix ID all property/atom d2_fr_shape 14 d2_fr_quat 4 "
+                     "d2_fr_inertia 3 d2_fr_grain 4 ghost yes` before read_data";
+  shape = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, hint);
+  quat = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, hint);
+  inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
+  grain = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, hint);
+  walls = fractum_array_if(lmp, "fr_walls");
+  slots = cohesion ? fractum_array(lmp, STYLE, "fr_springs", SPRING_SLOT * springs,
+                                   "declare `fix ID all property/atom d2_fr_springs 21*N` "
+                                   "(N = the springs per break plane)")
+                   : nullptr;
+}
+
+void FixFractumFracture::init()
+{
+  fractum_check_version(lmp, STYLE);
+  pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
+  if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular", STYLE);
+  if (!pair->shapes) arrays();    // stops with the missing array named
+  arrays();
+  if (atom->map_style == Atom::MAP_NONE)
+    error->all(FLERR, "{} needs an atom map (`atom_modify map array`)", STYLE);
+  law.mi = mi;
+  law.sigma_c = sigma_c;
+  law.sigma_f = sigma_f;
+  law.poisson = pair->poisson;
+  law.critical_contacts = critical_contacts;
+  law.ideal_plane = ideal_plane;
+  law.plane_jitter = plane_jitter;
+  law.springs = cohesion ? springs : 0;
+  law.gc = 0.0;
+  if (cohesion) {
+    int status = fractum_kernel_cohesive_energy(kic, pair->young, pair->poisson, &law.gc);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "cohesive_energy", status);
+  }
+  pair->recording = true;
+  pair->sigma_f = sigma_f;
+}
+
+double FixFractumFracture::draw_strength(tagint tag, int generation, const FractumBody &b)
+{
+  if (!weibull) return 1.0;
+  double p = 0.0, v = 0.0, factor = 0.0;
+  fractum_kernel_uniforms(static_cast<uint64_t>(seed), KEY_STRENGTH * (1ULL << 40) + tag,
+                          static_cast<uint64_t>(generation), 1, &p);
+  fractum_kernel_body_volume(&b, &v);
+  double x = std::cbrt(3.0 * v / (4.0 * M_PI));
+  fractum_kernel_weibull_factor(p, weibull_w, x, weibull_xm, &factor);
+  return factor;
+}
+
+void FixFractumFracture::setup(int)
+{
+  arrays();
+  // Grains the data file gave no strength (0) draw theirs; the sample grain is the atom itself.
+  FractumBody b;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (grain[i][1] == 0.0) grain[i][1] = static_cast<double>(atom->tag[i]);
+    if (grain[i][0] <= 0.0) {
+      fractum_body(atom, shape, quat, inertia, i, b);
+      grain[i][0] = draw_strength(atom->tag[i], static_cast<int>(grain[i][2]), b);
+    }
+  }
+}
+
+/* The cohesive springs of the owned atoms: both ends hold a copy, advanced identically. */
+void FixFractumFracture::spring_forces()
+{
+  if (!cohesion) return;
+  double **f = atom->f, **torque = atom->torque;
+  FractumBody bi, bj;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (grain[i][3] == 0.0) continue;
+    for (int s = 0; s < springs; s++) {
+      double *slot = &slots[i][SPRING_SLOT * s];
+      if (slot[0] == 0.0 || slot[20] != 0.0) continue;
+      tagint partner = static_cast<tagint>(slot[0]);
+      int j = atom->map(partner);
+      if (j < 0)
+        error->one(FLERR,
+                   "{}: atom {} holds a cohesive spring to atom {}, which is neither owned nor a "
+                   "ghost here: raise the communication cutoff (comm_modify cutoff)",
+                   STYLE, atom->tag[i], partner);
+      j = domain->closest_image(i, j);
+      fractum_body(atom, shape, quat, inertia, i, bi);
+      fractum_body(atom, shape, quat, inertia, j, bj);
+      const bool is_a = slot[1] > 0.0;
+      FractumSpring sp;
+      std::memcpy(sp.on_a, &slot[2], 3 * sizeof(double));
+      std::memcpy(sp.on_b, &slot[5], 3 * sizeof(double));
+      std::memcpy(sp.direction, &slot[8], 3 * sizeof(double));
+      sp.f0 = slot[11];
+      sp.k = slot[12];
+      sp.opening = slot[13];
+      std::memcpy(sp.last_gap, &slot[14], 3 * sizeof(double));
+      std::memcpy(sp.last_force, &slot[17], 3 * sizeof(double));
+      sp.broken = 0;
+      double fa[3], ta[3], tb[3], work = 0.0;
+      int broke = 0;
+      int status = fractum_kernel_spring(&sp, is_a ? &bi : &bj, is_a ? &bj : &bi, fa, ta, tb,
+                                         &work, &broke);
+      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "spring", status);
+      slot[13] = sp.opening;
+      std::memcpy(&slot[14], sp.last_gap, 3 * sizeof(double));
+      std::memcpy(&slot[17], sp.last_force, 3 * sizeof(double));
+      if (broke) {
+        slot[20] = 1.0;
+        grain[i][3] -= 1.0;
+        continue;
+      }
+      for (int k = 0; k < 3; k++) {
+        f[i][k] += is_a ? fa[k] : -fa[k];
+        torque[i][k] += is_a ? ta[k] : tb[k];
+      }
+    }
+  }
+}
+
+void FixFractumFracture::post_force(int)
+{
+  arrays();
+  spring_forces();
+  if (!pending.empty()) bond();
+}
+
+/* The springs of this step's splits, from the halves' forces at their new shapes. */
+void FixFractumFracture::bond()
+{
+  // Each rank sends the body, force and torque of the halves it owns; every rank then sees
+  // both halves of every split.
+  struct Half {
+    FractumBody body;
+    double force[3], torque[3];
+    tagint tag;
+  };
+  std::vector<Half> mine;
+  for (const Pending &p : pending)
+    for (tagint t : {p.a, p.b}) {
+      int i = atom->map(t);
+      if (i < 0 || i >= atom->nlocal) continue;
+      Half h;
+      std::memset(&h, 0, sizeof h);
+      fractum_body(atom, shape, quat, inertia, i, h.body);
+      for (int k = 0; k < 3; k++) {
+        h.force[k] = atom->f[i][k];
+        h.torque[k] = atom->torque[i][k];
+      }
+      h.tag = t;
+      mine.push_back(h);
+    }
+  int nprocs = comm->nprocs;
+  std::vector<int> counts_b(nprocs), displs(nprocs);
+  int bytes = static_cast<int>(mine.size() * sizeof(Half));
+  MPI_Allgather(&bytes, 1, MPI_INT, counts_b.data(), 1, MPI_INT, world);
+  int total = 0;
+  for (int r = 0; r < nprocs; r++) {
+    displs[r] = total;
+    total += counts_b[r];
+  }
+  std::vector<Half> all(total / sizeof(Half));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts_b.data(), displs.data(),
+                 MPI_BYTE, world);
+  auto find = [&](tagint t) -> const Half * {
+    for (const Half &h : all)
+      if (h.tag == t) return &h;
+    return nullptr;
+  };
+  double **f = atom->f, **torque = atom->torque;
+  for (const Pending &p : pending) {
+    const Half *ha = find(p.a), *hb = find(p.b);
+    if (!ha || !hb)
+      error->all(FLERR, "{}: the halves {} and {} of a split were not found after the split",
+                 STYLE, p.a, p.b);
+    int ia = atom->map(p.a), ib = atom->map(p.b);
+    const bool own_a = ia >= 0 && ia < atom->nlocal, own_b = ib >= 0 && ib < atom->nlocal;
+    if (!own_a && !own_b) continue;
+    FractumSpring made[16];
+    FractumBondForces applied;
+    int count = 0;
+    int status = fractum_kernel_bond(&law, &ha->body, &hb->body, ha->force, ha->torque,
+                                     hb->force, hb->torque, &p.p, made, &count, &applied);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "bond", status);
+    auto store = [&](int i, tagint partner, double role) {
+      int s = 0;
+      for (int k = 0; k < count; k++) {
+        while (s < springs && slots[i][SPRING_SLOT * s] != 0.0 &&
+               slots[i][SPRING_SLOT * s + 20] == 0.0)
+          s++;
+        if (s >= springs)
+          error->one(FLERR, "{}: atom {} has no free spring slot", STYLE, atom->tag[i]);
+        double *slot = &slots[i][SPRING_SLOT * s];
+        const FractumSpring &sp = made[k];
+        slot[0] = static_cast<double>(partner);
+        slot[1] = role;
+        std::memcpy(&slot[2], sp.on_a, 3 * sizeof(double));
+        std::memcpy(&slot[5], sp.on_b, 3 * sizeof(double));
+        std::memcpy(&slot[8], sp.direction, 3 * sizeof(double));
+        slot[11] = sp.f0;
+        slot[12] = sp.k;
+        slot[13] = sp.opening;
+        std::memcpy(&slot[14], sp.last_gap, 3 * sizeof(double));
+        std::memcpy(&slot[17], sp.last_force, 3 * sizeof(double));
+        slot[20] = 0.0;
+        s++;
+      }
+      grain[i][3] += count;
+    };
+    if (own_a) {
+      store(ia, p.b, 1.0);
+      for (int k = 0; k < 3; k++) {
+        f[ia][k] += applied.force_a[k];
+        torque[ia][k] += applied.torque_a[k];
+      }
+    }
+    if (own_b) {
+      store(ib, p.a, -1.0);
+      for (int k = 0; k < 3; k++) {
+        f[ib][k] -= applied.force_a[k];
+        torque[ib][k] += applied.torque_b[k];
+      }
+    }
+  }
+  pending.clear();
+}
+
+void FixFractumFracture::end_of_step()
+{
+  arrays();
+  std::vector<Decision> mine;
+  FractumBody b;
+  FractumTrigger t;
+  const int nlocal = atom->nlocal;
+  if (static_cast<int>(pair->critical.size()) < nlocal) return;    // no force evaluation yet
+  for (int i = 0; i < nlocal; i++) {
+    if (!(atom->mask[i] & groupbit) || grain[i][3] != 0.0) continue;
+    const double *m = &pair->moment[9 * (size_t) i];
+    bool any = false;
+    for (int k = 0; k < 9; k++) any |= m[k] != 0.0;
+    if (!any) continue;
+    fractum_body(atom, shape, quat, inertia, i, b);
+    const auto &c = pair->critical[i];
+    int status = fractum_kernel_check(&law, &b, grain[i][0], m, atom->torque[i],
+                                      static_cast<size_t>(c.count), c.point, c.stress[0], &t);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "check", status);
+    if (t.kind == 0) continue;
+    Decision d;
+    d.tag = atom->tag[i];
+    d.trigger = t;
+    for (int k = 0; k < 3; k++) {
+      d.force[k] = atom->f[i][k];
+      d.torque[k] = atom->torque[i][k];
+    }
+    mine.push_back(d);
+  }
+  int nprocs = comm->nprocs;
+  std::vector<int> bytes_of(nprocs), displs(nprocs);
+  int bytes = static_cast<int>(mine.size() * sizeof(Decision));
+  MPI_Allgather(&bytes, 1, MPI_INT, bytes_of.data(), 1, MPI_INT, world);
+  int total = 0;
+  for (int r = 0; r < nprocs; r++) {
+    displs[r] = total;
+    total += bytes_of[r];
+  }
+  if (total == 0) return;
+  decisions.resize(total / sizeof(Decision));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, decisions.data(), bytes_of.data(), displs.data(),
+                 MPI_BYTE, world);
+  std::sort(decisions.begin(), decisions.end(),
+            [](const Decision &x, const Decision &y) { return x.tag < y.tag; });
+  next_reneighbor = update->ntimestep + 1;
+}
+
+void FixFractumFracture::pre_exchange()
+{
+  if (next_reneighbor != update->ntimestep || decisions.empty()) return;
+  arrays();
+  // The splits of the owned parents, in tag order.
+  struct Made {
+    tagint parent;
+    int criterion;     // 1 Hoek-Brown, 2 contacts
+    int first_split;   // the parent was a grain of the sample
+    FractumBody minus;
+    double grain[4];
+    FractumPending p;
+  };
+  std::vector<Made> mine;
+  FractumBody b;
+  FractumSplit out;
+  for (const Decision &d : decisions) {
+    int i = atom->map(d.tag);
+    if (i < 0 || i >= atom->nlocal) continue;
+    fractum_body(atom, shape, quat, inertia, i, b);
+    const int generation = static_cast<int>(grain[i][2]);
+    double angles[3];
+    const double *jitter = nullptr;
+    if (b.sphere && plane_jitter) {
+      double u[6];
+      fractum_kernel_uniforms(static_cast<uint64_t>(seed), KEY_JITTER * (1ULL << 40) + d.tag,
+                              static_cast<uint64_t>(generation), 6, u);
+      fractum_kernel_jitter_angles(u, angles);
+      jitter = angles;
+    }
+    int status = fractum_kernel_split(&law, &b, d.force, d.torque, &d.trigger, jitter, &out);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "split", status);
+    if (out.axis < 0) continue;    // the shape forbids breaking (Section 3.3.3)
+    Made m;
+    std::memset(&m, 0, sizeof m);
+    m.parent = d.tag;
+    m.criterion = d.trigger.kind;
+    m.first_split = generation == 0;
+    m.minus = out.minus;
+    m.p = out.pending;
+    // The parent becomes the + half in place.
+    fractum_store_body(atom, shape, quat, inertia, i, out.plus);
+    grain[i][2] = generation + 1;
+    grain[i][0] = draw_strength(d.tag, generation + 1, out.plus);
+    grain[i][3] = 0.0;
+    if (walls)
+      for (int w = 0; w < 6; w++) walls[i][WALL_SLOT * w + 6] = 0.0;
+    if (slots)
+      for (int s = 0; s < springs * SPRING_SLOT; s++) slots[i][s] = 0.0;
+    m.grain[1] = grain[i][1];
+    m.grain[2] = generation + 1;
+    mine.push_back(m);
+  }
+  // Every rank learns every split; the new halves get tags after the largest one, in parent
+  // tag order, so that the tags do not depend on the rank count.
+  int nprocs = comm->nprocs;
+  std::vector<int> bytes_of(nprocs), displs(nprocs);
+  int bytes = static_cast<int>(mine.size() * sizeof(Made));
+  MPI_Allgather(&bytes, 1, MPI_INT, bytes_of.data(), 1, MPI_INT, world);
+  int total = 0;
+  for (int r = 0; r < nprocs; r++) {
+    displs[r] = total;
+    total += bytes_of[r];
+  }
+  std::vector<Made> all(total / sizeof(Made));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), bytes_of.data(), displs.data(),
+                 MPI_BYTE, world);
+  std::sort(all.begin(), all.end(), [](const Made &x, const Made &y) { return x.parent < y.parent; });
+  tagint maxtag_local = 0, maxtag = 0;
+  for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
+  MPI_Allreduce(&maxtag_local, &maxtag, 1, MPI_LMP_TAGINT, MPI_MAX, world);
+  const int n = static_cast<int>(all.size());
+  std::vector<tagint> ids(n);
+  std::vector<int> types(n);
+  std::vector<double> xs(3 * n), vs(3 * n);
+  for (int k = 0; k < n; k++) {
+    ids[k] = maxtag + 1 + k;
+    int parent = atom->map(all[k].parent);
+    // The half takes the parent's type; only the parent's owner knows it, so types travel as
+    // the parent's in a second pass below when the owner differs (all grains share a type in
+    // Fractum's exports).
+    types[k] = parent >= 0 ? atom->type[parent] : 1;
+    for (int d = 0; d < 3; d++) {
+      xs[3 * k + d] = all[k].minus.pos[d];
+      vs[3 * k + d] = all[k].minus.vel[d];
+    }
+  }
+  std::vector<int> type_all(n);
+  MPI_Allreduce(types.data(), type_all.data(), n, MPI_INT, MPI_MAX, world);
+  if (n > 0) {
+    bigint before = atom->natoms;
+    lammps_create_atoms(lmp, n, ids.data(), type_all.data(), xs.data(), vs.data(), nullptr, 0);
+    if (atom->natoms != before + n)
+      error->all(FLERR, "{}: {} halves of split grains were to be created and {} were: a half "
+                 "lies outside the simulation box", STYLE, n, atom->natoms - before);
+    arrays();
+    for (int k = 0; k < n; k++) {
+      int i = atom->map(ids[k]);
+      if (i < 0 || i >= atom->nlocal) continue;
+      fractum_store_body(atom, shape, quat, inertia, i, all[k].minus);
+      grain[i][0] = draw_strength(ids[k], static_cast<int>(all[k].grain[2]), all[k].minus);
+      grain[i][1] = all[k].grain[1];
+      grain[i][2] = all[k].grain[2];
+      grain[i][3] = 0.0;
+    }
+  }
+  pending.clear();
+  for (int k = 0; k < n; k++) {
+    // Every rank that computes a contact of the parent starts its held Hertz radius afresh.
+    pair->reshaped.push_back(all[k].parent);
+    counts[0] += 1;
+    counts[1] += all[k].first_split;
+    counts[2] += all[k].criterion == 1;
+    counts[3] += all[k].criterion == 2;
+    if (cohesion) pending.push_back(Pending{all[k].parent, ids[k], all[k].p});
+  }
+  decisions.clear();
+}
+
+double FixFractumFracture::compute_vector(int n)
+{
+  if (n < 4) return counts[n];
+  double local = 0.0, global = 0.0;
+  if (n == 4) {
+    arrays();
+    if (slots)
+      for (int i = 0; i < atom->nlocal; i++)
+        for (int s = 0; s < springs; s++) {
+          const double *slot = &slots[i][SPRING_SLOT * s];
+          if (slot[0] != 0.0 && slot[20] == 0.0 && slot[1] > 0.0) local += 1.0;
+        }
+  } else if (n == 5) {
+    local = pair->elastic_energy;
+  } else {
+    local = pair->dissipated;
+  }
+  MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, world);
+  return global;
+}
+
+void FixFractumFracture::write_restart(FILE *fp)
+{
+  // Counters and the decisions waiting for the next step (every rank holds all of them).
+  if (comm->me != 0) return;
+  std::vector<double> buf;
+  buf.push_back(4.0);
+  for (double c : counts) buf.push_back(c);
+  buf.push_back(static_cast<double>(decisions.size()));
+  buf.push_back(static_cast<double>(sizeof(Decision)));
+  const size_t doubles = (sizeof(Decision) + sizeof(double) - 1) / sizeof(double);
+  size_t at = buf.size();
+  buf.resize(at + doubles * decisions.size());
+  if (!decisions.empty())
+    std::memcpy(&buf[at], decisions.data(), sizeof(Decision) * decisions.size());
+  int size = static_cast<int>(buf.size() * sizeof(double));
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(buf.data(), sizeof(double), buf.size(), fp);
+}
+
+void FixFractumFracture::restart(char *raw)
+{
+  auto *buf = reinterpret_cast<double *>(raw);
+  if (static_cast<int>(buf[0]) != 4)
+    error->all(FLERR, "{}: the restart file's fracture state is not this plugin's", STYLE);
+  for (int k = 0; k < 4; k++) counts[k] = buf[1 + k];
+  size_t n = static_cast<size_t>(buf[5]);
+  if (static_cast<size_t>(buf[6]) != sizeof(Decision))
+    error->all(FLERR, "{}: the restart file's pending splits come from another build", STYLE);
+  decisions.resize(n);
+  if (n) std::memcpy(decisions.data(), &buf[7], sizeof(Decision) * n);
+  if (n) next_reneighbor = update->ntimestep + 1;
+}

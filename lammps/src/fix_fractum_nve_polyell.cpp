@@ -1,0 +1,130 @@
+#include "fix_fractum_nve_polyell.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "update.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+static const char *STYLE = "fix fractum/nve/polyell";
+
+FixFractumNvePolyell::FixFractumNvePolyell(LAMMPS *lmp, int narg, char **arg) :
+    Fix(lmp, narg, arg)
+{
+  if (narg != 3)
+    error->all(FLERR, "{} takes no arguments after the group (got {})", STYLE, arg[3]);
+  time_integrate = 1;
+  comm_forward = 4;
+}
+
+int FixFractumNvePolyell::setmask()
+{
+  return INITIAL_INTEGRATE | POST_INTEGRATE | FINAL_INTEGRATE;
+}
+
+void FixFractumNvePolyell::init()
+{
+  fractum_check_version(lmp, STYLE);
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR, "{} needs atom_style sphere (per-atom radius, rmass, omega and torque)",
+               STYLE);
+  arrays();
+}
+
+void FixFractumNvePolyell::arrays()
+{
+  shape = fractum_array_if(lmp, "fr_shape");
+  if (shape) {
+    const char *hint = "declare them with the d2_fr_shape array in one fix property/atom";
+    shape = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, hint);
+    quat = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, hint);
+    inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
+  } else {
+    quat = inertia = nullptr;
+  }
+}
+
+/* Atom i as a body; without the shape arrays, a sphere (inertia 2/5 m r^2). */
+void FixFractumNvePolyell::body(int i, FractumBody &b)
+{
+  if (shape) {
+    fractum_body(atom, shape, quat, inertia, i, b);
+    return;
+  }
+  std::memset(&b, 0, sizeof b);
+  for (int k = 0; k < 3; k++) {
+    b.pos[k] = atom->x[i][k];
+    b.vel[k] = atom->v[i][k];
+    b.omega[k] = atom->omega[i][k];
+  }
+  b.quat[0] = b.to_body[0] = 1.0;
+  b.mass = atom->rmass[i];
+  b.radius = atom->radius[i];
+  double moment = 0.4 * b.mass * b.radius * b.radius;
+  for (int k = 0; k < 3; k++) b.inertia[k] = moment;
+  for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
+  b.sphere = 1;
+}
+
+void FixFractumNvePolyell::store(int i, const FractumBody &b)
+{
+  for (int k = 0; k < 3; k++) {
+    atom->x[i][k] = b.pos[k];
+    atom->v[i][k] = b.vel[k];
+    atom->omega[i][k] = b.omega[k];
+  }
+  if (quat)
+    for (int k = 0; k < 4; k++) quat[i][k] = b.quat[k];
+}
+
+void FixFractumNvePolyell::initial_integrate(int)
+{
+  arrays();
+  int *mask = atom->mask;
+  FractumBody b;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    body(i, b);
+    int status = fractum_kernel_kick_drift(&b, atom->f[i], atom->torque[i], update->dt);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "kick_drift", status);
+    store(i, b);
+  }
+}
+
+void FixFractumNvePolyell::post_integrate()
+{
+  if (quat) comm->forward_comm(this);
+}
+
+void FixFractumNvePolyell::final_integrate()
+{
+  arrays();
+  int *mask = atom->mask;
+  FractumBody b;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(mask[i] & groupbit)) continue;
+    body(i, b);
+    int status = fractum_kernel_kick(&b, atom->f[i], atom->torque[i], update->dt);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "kick", status);
+    store(i, b);
+  }
+}
+
+int FixFractumNvePolyell::pack_forward_comm(int n, int *list, double *buf, int, int *)
+{
+  int m = 0;
+  for (int k = 0; k < n; k++)
+    for (int d = 0; d < 4; d++) buf[m++] = quat[list[k]][d];
+  return m;
+}
+
+void FixFractumNvePolyell::unpack_forward_comm(int n, int first, double *buf)
+{
+  int m = 0;
+  for (int i = first; i < first + n; i++)
+    for (int d = 0; d < 4; d++) quat[i][d] = buf[m++];
+}

@@ -1,0 +1,33 @@
+/* fix ID group fractum/nve/polyell: Fractum's velocity Verlet for rigid grains (libfractum's
+   fractum_kernel_kick_drift and fractum_kernel_kick, the functions Fractum's integrator runs):
+   spheres kick their angular velocity, poly-ellipsoids their angular momentum, and orientations
+   turn by the midpoint rule. The orientations (d2_fr_quat) go to the ghost atoms every step. */
+#ifndef FRACTUM_FIX_NVE_POLYELL_H
+#define FRACTUM_FIX_NVE_POLYELL_H
+
+#include "fix.h"
+#include "fractum_atoms.h"
+
+namespace LAMMPS_NS {
+
+class FixFractumNvePolyell : public Fix {
+ public:
+  FixFractumNvePolyell(class LAMMPS *, int, char **);
+  int setmask() override;
+  void init() override;
+  void initial_integrate(int) override;
+  void post_integrate() override;
+  void final_integrate() override;
+  int pack_forward_comm(int, int *, double *, int, int *) override;
+  void unpack_forward_comm(int, int, double *) override;
+
+ private:
+  double **shape = nullptr, **quat = nullptr, **inertia = nullptr;
+  void arrays();
+  void body(int i, FractumBody &b);
+  void store(int i, const FractumBody &b);
+};
+
+}    // namespace LAMMPS_NS
+
+#endif

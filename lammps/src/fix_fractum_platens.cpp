@@ -1,0 +1,238 @@
+#include "fix_fractum_platens.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "force.h"
+#include "input.h"
+#include "pair_fractum_granular.h"
+#include "update.h"
+#include "utils.h"
+#include "variable.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+using namespace FixConst;
+
+static const char *STYLE = "fix fractum/platens";
+static const char *FACE_NAMES[6] = {"xlo", "xhi", "ylo", "yhi", "zlo", "zhi"};
+
+static int face_index(const char *name)
+{
+  for (int k = 0; k < 6; k++)
+    if (std::strcmp(name, FACE_NAMES[k]) == 0) return k;
+  return -1;
+}
+
+FixFractumPlatens::FixFractumPlatens(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
+{
+  const char *usage = "FACE POS [FACE POS ...] [vel FACE SPEED|v_name ...] [friction MU] with "
+                      "FACE one of xlo xhi ylo yhi zlo zhi";
+  int iarg = 3;
+  while (iarg < narg) {
+    std::string key = arg[iarg];
+    int face = face_index(arg[iarg]);
+    if (face >= 0) {
+      if (iarg + 1 >= narg) error->all(FLERR, "{}: face {} needs a position (m)", STYLE, key);
+      double pos = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      active[face] = true;
+      int axis = face / 2;
+      point[face][axis] = pos;
+      normal[face][axis] = face % 2 == 0 ? 1.0 : -1.0;
+      iarg += 2;
+    } else if (key == "vel") {
+      if (iarg + 2 >= narg) error->all(FLERR, "{}: vel needs a face and a speed: {}", STYLE, usage);
+      int f = face_index(arg[iarg + 1]);
+      if (f < 0)
+        error->all(FLERR, "{}: vel {}: the face must be one of xlo xhi ylo yhi zlo zhi", STYLE,
+                   arg[iarg + 1]);
+      if (std::strncmp(arg[iarg + 2], "v_", 2) == 0)
+        speed_var[f] = arg[iarg + 2] + 2;
+      else
+        speed[f] = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      iarg += 3;
+    } else if (key == "friction") {
+      if (iarg + 1 >= narg) error->all(FLERR, "{}: friction needs a value", STYLE);
+      wall_friction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(wall_friction >= 0.0))
+        error->all(FLERR, "{}: friction = {} must be >= 0", STYLE, wall_friction);
+      iarg += 2;
+    } else {
+      error->all(FLERR, "{}: unknown argument {}; allowed: {}", STYLE, key, usage);
+    }
+  }
+  bool any = false;
+  for (int k = 0; k < FACES; k++) any |= active[k];
+  if (!any) error->all(FLERR, "{} needs at least one face: {}", STYLE, usage);
+  for (int k = 0; k < FACES; k++)
+    if (!active[k] && (speed[k] != 0.0 || !speed_var[k].empty()))
+      error->all(FLERR, "{}: vel {} names a face that is not defined", STYLE, FACE_NAMES[k]);
+  vector_flag = 1;
+  size_vector = 3 * FACES;
+  global_freq = 1;
+  extvector = 0;
+  restart_global = 1;
+}
+
+int FixFractumPlatens::setmask()
+{
+  return INITIAL_INTEGRATE | POST_FORCE;
+}
+
+void FixFractumPlatens::init()
+{
+  fractum_check_version(lmp, STYLE);
+  pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
+  if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular (it takes its law)", STYLE);
+  double mu = wall_friction >= 0 ? wall_friction : (pair->friction >= 0 ? pair->friction : 0.0);
+  int status = fractum_kernel_contact_law(pair->young, pair->poisson,
+                                          pair->restitution > 0 ? pair->restitution : 1.0, mu,
+                                          pair->restitution > 0 ? 1 : 0,
+                                          pair->friction >= 0 ? 1 : 0, &law);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "contact_law", status);
+  if ((law.friction || pair->shapes))
+    fractum_array(lmp, STYLE, "fr_walls", 6 * WALL_SLOT,
+                  "declare `fix ID all property/atom d2_fr_walls 42` (the faces' contact "
+                  "histories) before read_data");
+  for (int k = 0; k < FACES; k++)
+    if (!speed_var[k].empty()) {
+      int v = input->variable->find(speed_var[k].c_str());
+      if (v < 0 || !input->variable->equalstyle(v))
+        error->all(FLERR, "{}: vel {} v_{}: no equal-style variable of that name", STYLE,
+                   FACE_NAMES[k], speed_var[k]);
+    }
+}
+
+void FixFractumPlatens::speeds()
+{
+  for (int k = 0; k < FACES; k++) {
+    if (!active[k]) continue;
+    double s = speed[k];
+    if (!speed_var[k].empty()) {
+      int v = input->variable->find(speed_var[k].c_str());
+      s = input->variable->compute_equal(v);
+    }
+    int axis = k / 2;
+    velocity[k][0] = velocity[k][1] = velocity[k][2] = 0.0;
+    velocity[k][axis] = s;
+  }
+}
+
+void FixFractumPlatens::setup(int vflag)
+{
+  speeds();
+  post_force(vflag);
+}
+
+void FixFractumPlatens::initial_integrate(int)
+{
+  // As Fractum's walls: the speed is set at the start of the step and the face moves by v dt
+  // before the forces are evaluated.
+  speeds();
+  for (int k = 0; k < FACES; k++)
+    for (int d = 0; d < 3; d++) point[k][d] += velocity[k][d] * update->dt;
+}
+
+void FixFractumPlatens::post_force(int)
+{
+  std::memset(local, 0, sizeof local);
+  double **walls = fractum_array_if(lmp, "fr_walls");
+  const bool shapes = pair->shapes;
+  double **shape = pair->shape_arr, **quat = pair->quat_arr, **inertia = pair->inertia_arr;
+  if (shapes) {
+    shape = fractum_array_if(lmp, "fr_shape");
+    quat = fractum_array_if(lmp, "fr_quat");
+    inertia = fractum_array_if(lmp, "fr_inertia");
+  }
+  double **grain = shapes ? fractum_array_if(lmp, "fr_grain") : nullptr;
+  const int update_history = update->setupflag ? 0 : 1;
+  FractumBody b;
+  FractumPairMemory scratch;
+  FractumContact out;
+  double **f = atom->f, **torque = atom->torque;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    if (shapes) {
+      fractum_body(atom, shape, quat, inertia, i, b);
+    } else {
+      std::memset(&b, 0, sizeof b);
+      for (int k = 0; k < 3; k++) {
+        b.pos[k] = atom->x[i][k];
+        b.vel[k] = atom->v[i][k];
+        b.omega[k] = atom->omega[i][k];
+      }
+      b.quat[0] = b.to_body[0] = 1.0;
+      b.mass = atom->rmass[i];
+      b.radius = atom->radius[i];
+      for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
+      b.sphere = 1;
+    }
+    for (int w = 0; w < FACES; w++) {
+      if (!active[w]) continue;
+      FractumPairMemory *mem = &scratch;
+      if (walls) {
+        // hist (3), unused (3), held radius: the pair memory layout.
+        mem = reinterpret_cast<FractumPairMemory *>(&walls[i][WALL_SLOT * w]);
+      } else {
+        std::memset(&scratch, 0, sizeof scratch);
+      }
+      int status = fractum_kernel_wall(&law, &b, normal[w], point[w], velocity[w], mem,
+                                       update->dt, update_history, shapes, &out);
+      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "wall", status);
+      if (!out.touching) continue;
+      for (int k = 0; k < 3; k++) {
+        f[i][k] += out.force[k];
+        torque[i][k] += out.torque_a[k];
+      }
+      local[w] -= out.force[w / 2];
+      local[FACES + w] += 1.0;
+      pair->elastic_energy += out.energy;
+      pair->dissipated += out.dissipated;
+      if (pair->recording && grain && grain[i][3] == 0.0)
+        pair->record(i, out.force, out.point, out.normal_force, out.radius, grain[i][0]);
+    }
+  }
+  reduced_at = -1;
+}
+
+double FixFractumPlatens::compute_vector(int n)
+{
+  if (reduced_at != update->ntimestep) {
+    MPI_Allreduce(local, global, 2 * FACES, MPI_DOUBLE, MPI_SUM, world);
+    reduced_at = update->ntimestep;
+  }
+  if (n < FACES) return global[n];
+  if (n < 2 * FACES) {
+    int k = n - FACES;
+    return point[k][k / 2];
+  }
+  return global[n - FACES];
+}
+
+void FixFractumPlatens::write_restart(FILE *fp)
+{
+  if (comm->me != 0) return;
+  double buf[1 + 6 * FACES];
+  buf[0] = 6 * FACES;
+  for (int k = 0; k < FACES; k++)
+    for (int d = 0; d < 3; d++) {
+      buf[1 + 6 * k + d] = point[k][d];
+      buf[1 + 6 * k + 3 + d] = velocity[k][d];
+    }
+  int size = sizeof buf;
+  fwrite(&size, sizeof(int), 1, fp);
+  fwrite(buf, sizeof buf, 1, fp);
+}
+
+void FixFractumPlatens::restart(char *raw)
+{
+  auto *buf = reinterpret_cast<double *>(raw);
+  if (static_cast<int>(buf[0]) != 6 * FACES)
+    error->all(FLERR, "{}: the restart file's platen state is not this plugin's", STYLE);
+  for (int k = 0; k < FACES; k++)
+    for (int d = 0; d < 3; d++) {
+      point[k][d] = buf[1 + 6 * k + d];
+      velocity[k][d] = buf[1 + 6 * k + 3 + d];
+    }
+}

@@ -1,0 +1,50 @@
+#include "fractum_atoms.h"
+
+#include "lammps.h"
+
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+void LAMMPS_NS::fractum_check_version(LAMMPS *lmp, const char *style)
+{
+  if (std::strcmp(lmp->version, FRACTUM_LAMMPS_VERSION) != 0)
+    lmp->error->all(FLERR,
+                    "{}: this Fractum plugin was built for LAMMPS {} and this is LAMMPS {}; "
+                    "rebuild it against this LAMMPS's headers (make lammps-plugin)",
+                    style, FRACTUM_LAMMPS_VERSION, lmp->version);
+}
+
+double **LAMMPS_NS::fractum_array_if(LAMMPS *lmp, const char *name, int *cols)
+{
+  int flag = -1, c = -1;
+  int index = lmp->atom->find_custom(name, flag, c);
+  if (index < 0 || flag != 1 || c <= 0) return nullptr;
+  if (cols) *cols = c;
+  return lmp->atom->darray[index];
+}
+
+double **LAMMPS_NS::fractum_array(LAMMPS *lmp, const char *style, const char *name, int min_cols,
+                                  const char *hint)
+{
+  int cols = 0;
+  double **a = fractum_array_if(lmp, name, &cols);
+  if (!a)
+    lmp->error->all(FLERR,
+                    "{} needs the per-atom array d2_{} ({} columns) of a fix property/atom, "
+                    "which is not defined: {}",
+                    style, name, min_cols, hint);
+  if (cols < min_cols)
+    lmp->error->all(FLERR, "{} needs d2_{} with at least {} columns, and it has {}: {}", style,
+                    name, min_cols, cols, hint);
+  return a;
+}
+
+void LAMMPS_NS::fractum_kernel_failed(LAMMPS *lmp, const char *style, const char *kernel,
+                                      int status)
+{
+  lmp->error->one(FLERR,
+                  "{}: the Fractum kernel {} refused its arguments (status {}): a non-finite or "
+                  "non-positive value in the per-atom data",
+                  style, kernel, status);
+}

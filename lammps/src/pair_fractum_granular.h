@@ -1,0 +1,75 @@
+/* pair_style fractum/granular: Fractum's Hertz-Mindlin contact law between spheres and
+   poly-ellipsoids (libfractum's fractum_kernel_pair, the very function Fractum's own contact loop
+   runs), with per-contact history through LAMMPS's neighbour-history fix.
+
+   pair_style fractum/granular
+   pair_coeff * * young E poisson NU [restitution e] [friction MU]
+
+   restitution turns on viscous damping (Fractum's `damping` effect), friction the Mindlin
+   tangential force with the Coulomb limit (`friction`). Needs atom_style sphere, newton_pair off,
+   comm_modify vel yes and the per-atom arrays of fractum_atoms.h. */
+#ifdef PAIR_CLASS
+#else
+#ifndef FRACTUM_PAIR_GRANULAR_H
+#define FRACTUM_PAIR_GRANULAR_H
+
+#include "fractum_atoms.h"
+#include "pair.h"
+
+#include <vector>
+
+namespace LAMMPS_NS {
+
+class PairFractumGranular : public Pair {
+ public:
+  PairFractumGranular(class LAMMPS *);
+  ~PairFractumGranular() override;
+  void compute(int, int) override;
+  void settings(int, char **) override;
+  void coeff(int, char **) override;
+  void init_style() override;
+  double init_one(int, int) override;
+  void transfer_history(double *, double *, int, int) override;
+  double memory_usage() override;
+
+  /* The contact law, for the walls (fix fractum/platens) and fracture. */
+  double young = 0.0, poisson = 0.0, restitution = -1.0, friction = -1.0;
+  FractumContactLaw law{};
+  /* Bodies that are not spheres take part: Fractum's POLY contact variant. */
+  int shapes = 0;
+
+  /* Grain fracture reads, per owned atom, the moment sum f (x) (x_c - x) of its contacts and its
+     critical contacts (tensile stress above its strength): the pair and the walls fill them
+     while `recording` is set (by fix fractum/fracture). */
+  bool recording = false;
+  double sigma_f = 0.0;    // contact tensile strength (Pa) at Weibull factor 1
+  struct Critical {
+    int count;
+    double stress[3];
+    double point[3][3];
+  };
+  std::vector<double> moment;    // 9 per owned atom
+  std::vector<Critical> critical;
+  double elastic_energy = 0.0, dissipated = 0.0;    // this rank's, last evaluation
+  int contacts = 0;
+  /* Record one contact of owned atom i: force f on it at point p. */
+  void record(int i, const double *f, const double *p, double normal_force, double radius,
+              double strength);
+  /* Tags of bodies reshaped by a split: their contacts' held Hertz radii start afresh. */
+  std::vector<tagint> reshaped;
+
+  double **shape_arr = nullptr, **quat_arr = nullptr, **inertia_arr = nullptr;
+  double **grain_arr = nullptr;
+
+ protected:
+  class FractumNeighHistoryView *history = nullptr;
+  class Fix *dummy = nullptr;
+  std::vector<FractumBody> bodies;
+  double maxrad = 0.0;
+  void check_history();
+};
+
+}    // namespace LAMMPS_NS
+
+#endif
+#endif
