@@ -86,11 +86,16 @@ impl Mindlin {
 /// kernel never reads (its const parameters switch them off at compile time).
 #[derive(Debug, Clone, Copy, Default)]
 pub struct KernelConsts {
-    four_thirds_e: f64,
-    two_e: f64,
-    damping: f64,
-    eight_g: f64,
-    mu: f64,
+    /// 4/3 E* (Pa).
+    pub four_thirds_e: f64,
+    /// 2 E* (Pa).
+    pub two_e: f64,
+    /// The damping coefficient c (dimensionless; 0 without damping).
+    pub damping: f64,
+    /// 8 G* (Pa; 0 without friction).
+    pub eight_g: f64,
+    /// Coulomb friction coefficient μ (0 without friction).
+    pub mu: f64,
 }
 
 impl KernelConsts {

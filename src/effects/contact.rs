@@ -15,6 +15,7 @@
 
 use std::ops::Range;
 
+use nalgebra::{Matrix3, UnitQuaternion};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -27,7 +28,7 @@ use crate::contact::neighbor::{PairList, WallLists, transfer_pair_data, transfer
 use crate::error::{Error, Result};
 use crate::parallel::threads_here;
 use crate::shape::Shape;
-use crate::state::{Bodies, Forces, Vec3, Walls};
+use crate::state::{Bodies, Body, Forces, Vec3, Walls, plane_distance, shape_placement};
 
 /// Parameters of the contact effect.
 #[derive(Debug, Clone)]
@@ -107,25 +108,32 @@ pub struct ContactRecords {
 /// 2 threads, 2000 bodies ran at 0.86x and 4000 at 1.16x of one thread).
 const PARALLEL_MIN_BODIES_PER_THREAD: usize = 1500;
 
-/// One pair's force on i and the torques on i and j, and what a record keeps of it.
+/// One contact's force on body i (the first body of a pair; the body against a wall) and the
+/// torques on i and j, and what a record keeps of it. j receives the opposite force.
 #[derive(Debug, Clone, Copy, Default)]
-struct PairOut {
-    force: Vec3,
-    torque_i: Vec3,
-    torque_j: Vec3,
-    point: Vec3,
-    normal: Vec3,
-    c: ContactOut,
+pub struct PairOut {
+    /// Force on i (N).
+    pub force: Vec3,
+    /// Torques on i and j about their centres of mass (N·m); zero without friction on
+    /// spheres. Against a wall `torque_j` is zero.
+    pub torque_i: Vec3,
+    pub torque_j: Vec3,
+    /// Contact point (m) and unit normal from j (or the wall) to i.
+    pub point: Vec3,
+    pub normal: Vec3,
+    pub c: ContactOut,
 }
 
 /// The scalar results of the kernel a record keeps.
 #[derive(Debug, Clone, Copy, Default)]
-struct ContactOut {
-    normal_force: f64,
-    radius: f64,
-    stiffness: f64,
-    energy: f64,
-    dissipated: f64,
+pub struct ContactOut {
+    /// Normal force (N), Hertz contact radius (m), normal stiffness 2 E* a (N/m), stored
+    /// elastic energy (J) and the energy damping and sliding dissipated in the step (J).
+    pub normal_force: f64,
+    pub radius: f64,
+    pub stiffness: f64,
+    pub energy: f64,
+    pub dissipated: f64,
 }
 
 impl From<&ContactForce> for ContactOut {
@@ -211,9 +219,11 @@ struct SavedHistory {
 /// at every crossing (0.41 J against 2.4 mJ of platen work in the crushing scene); with the
 /// radius held, `F = 4/3 E* √R δ^{3/2}` derives from a potential for the contact's life.
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct PairMemory {
-    normal: Vec3,
-    radius: f64,
+pub struct PairMemory {
+    /// The last contact normal (zero before the first contact).
+    pub normal: Vec3,
+    /// The held Hertz radius (m), 0 while the bodies do not touch.
+    pub radius: f64,
 }
 
 /// The held Hertz radius: the current local one when the contact forms.
@@ -225,11 +235,310 @@ fn held_radius(memory: &mut f64, local: f64) -> f64 {
     *memory
 }
 
-/// A body's shape placed in the world for this evaluation (POLY variant).
+/// A body's shape placed in the world for one evaluation (POLY variant): the world octant
+/// origin (m) and the shape-to-world rotation.
 #[derive(Debug, Clone, Copy)]
-struct Placement {
-    origin: Vec3,
-    rot: nalgebra::Matrix3<f64>,
+pub struct Placement {
+    pub origin: Vec3,
+    pub rot: Matrix3<f64>,
+}
+
+impl Placement {
+    /// The placement of a body of shape `shape` at `pos` turned by `orientation` (body to
+    /// world), as [`Bodies::shape_placement`] places it.
+    #[inline]
+    pub fn of(pos: &Vec3, orientation: &UnitQuaternion<f64>, shape: &Shape) -> Self {
+        let (origin, q) = shape_placement(pos, orientation, shape);
+        Placement {
+            origin,
+            rot: q.to_rotation_matrix().into_inner(),
+        }
+    }
+}
+
+/// A body as the contact kernels ([`pair_contact`], [`wall_contact`]) read it. The run reads
+/// its arrays in place ([`BodyAt`]); the C ABI hands over one [`Body`] ([`BodyView`]).
+pub trait ContactBody {
+    /// Centre of mass (m).
+    fn pos(&self) -> Vec3;
+    /// Velocity (m/s).
+    fn vel(&self) -> Vec3;
+    /// Angular velocity, world frame (rad/s).
+    fn omega(&self) -> Vec3;
+    /// Mass (kg).
+    fn mass(&self) -> f64;
+    /// Bounding radius (m); a sphere's radius.
+    fn radius(&self) -> f64;
+    fn is_sphere(&self) -> bool;
+    /// The body as a convex shape in the world (needs its placement: POLY only).
+    fn placed(&self) -> Placed<'_>;
+}
+
+/// A body of shape `shape` as a convex shape in the world: a sphere (and a dlsm polyhedron,
+/// which never reaches the granular contact) by its bounding radius about `pos`, a
+/// poly-ellipsoid by its `placement` (asked for only then).
+#[inline(always)]
+fn placed_shape(
+    shape: &Shape,
+    radius: f64,
+    pos: Vec3,
+    placement: impl FnOnce() -> Placement,
+) -> Placed<'_> {
+    match shape {
+        // Polyhedra are dlsm elements, which never reach the granular contact.
+        Shape::Sphere | Shape::Polyhedron => Placed::sphere(radius, pos),
+        Shape::PolyEllipsoid { pe, .. } => {
+            let p = placement();
+            Placed::poly_ellipsoid(pe, p.origin, p.rot)
+        }
+    }
+}
+
+/// Body `i` of `bodies`, placed by `placements` (this evaluation's, one per body; empty
+/// without POLY): how the run feeds the contact kernels.
+#[derive(Debug, Clone, Copy)]
+pub struct BodyAt<'a> {
+    pub bodies: &'a Bodies,
+    pub placements: &'a [Placement],
+    pub i: usize,
+}
+
+impl ContactBody for BodyAt<'_> {
+    #[inline(always)]
+    fn pos(&self) -> Vec3 {
+        self.bodies.pos[self.i]
+    }
+    #[inline(always)]
+    fn vel(&self) -> Vec3 {
+        self.bodies.vel[self.i]
+    }
+    #[inline(always)]
+    fn omega(&self) -> Vec3 {
+        self.bodies.omega[self.i]
+    }
+    #[inline(always)]
+    fn mass(&self) -> f64 {
+        self.bodies.mass[self.i]
+    }
+    #[inline(always)]
+    fn radius(&self) -> f64 {
+        self.bodies.radius[self.i]
+    }
+    #[inline(always)]
+    fn is_sphere(&self) -> bool {
+        self.bodies.shape[self.i].is_sphere()
+    }
+    #[inline(always)]
+    fn placed(&self) -> Placed<'_> {
+        let i = self.i;
+        placed_shape(
+            &self.bodies.shape[i],
+            self.bodies.radius[i],
+            self.bodies.pos[i],
+            || self.placements[i],
+        )
+    }
+}
+
+/// One [`Body`] with its placement: how the C ABI feeds the contact kernels.
+#[derive(Debug, Clone, Copy)]
+pub struct BodyView<'a> {
+    pub body: &'a Body,
+    pub placement: Placement,
+}
+
+impl<'a> BodyView<'a> {
+    /// `body`, placed as the run places its bodies ([`HertzContact`] places every body once
+    /// per evaluation by [`Placement::of`]).
+    pub fn new(body: &'a Body) -> Self {
+        BodyView {
+            body,
+            placement: Placement::of(&body.pos, &body.orientation, &body.shape),
+        }
+    }
+}
+
+impl ContactBody for BodyView<'_> {
+    #[inline(always)]
+    fn pos(&self) -> Vec3 {
+        self.body.pos
+    }
+    #[inline(always)]
+    fn vel(&self) -> Vec3 {
+        self.body.vel
+    }
+    #[inline(always)]
+    fn omega(&self) -> Vec3 {
+        self.body.omega
+    }
+    #[inline(always)]
+    fn mass(&self) -> f64 {
+        self.body.mass
+    }
+    #[inline(always)]
+    fn radius(&self) -> f64 {
+        self.body.radius
+    }
+    #[inline(always)]
+    fn is_sphere(&self) -> bool {
+        self.body.shape.is_sphere()
+    }
+    #[inline(always)]
+    fn placed(&self) -> Placed<'_> {
+        placed_shape(&self.body.shape, self.body.radius, self.body.pos, || {
+            self.placement
+        })
+    }
+}
+
+/// The force of the pair (a, b) on a, or None when the bodies do not overlap: the whole
+/// per-pair kernel of the contact effect (bounding-sphere rejection; the sphere formula, or
+/// with `POLY` for a pair that is not two spheres the convex contact warm-started from the
+/// pair's last normal in `memory`, with the Hertz radius held there; Hertz–Mindlin; torques,
+/// point and normal). `hist` is the pair's tangential displacement (FRIC), `memory` what the
+/// pair remembers (POLY); `update` is false only for the force evaluation before the first
+/// step. m* is `m_a m_b / (m_a + m_b)` (read only with DAMP).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
+    k: &KernelConsts,
+    a: &impl ContactBody,
+    b: &impl ContactBody,
+    hist: &mut Vec3,
+    memory: &mut PairMemory,
+    dt: f64,
+    update: bool,
+) -> Option<PairOut> {
+    let d = a.pos() - b.pos();
+    let (ri, rj) = (a.radius(), b.radius());
+    let rsum = ri + rj;
+    let r2 = d.norm_squared();
+    if r2 >= rsum * rsum {
+        if FRIC {
+            *hist = Vec3::zeros();
+        }
+        if POLY {
+            memory.radius = 0.0;
+        }
+        return None;
+    }
+    let m_eff = if DAMP {
+        let (mi, mj) = (a.mass(), b.mass());
+        mi * mj / (mi + mj)
+    } else {
+        0.0
+    };
+    if POLY && !(a.is_sphere() && b.is_sphere()) {
+        let guess = if memory.normal == Vec3::zeros() {
+            d
+        } else {
+            memory.normal
+        };
+        let Some(g) = convex::contact(&a.placed(), &b.placed(), &guess) else {
+            if FRIC {
+                *hist = Vec3::zeros();
+            }
+            memory.radius = 0.0;
+            return None;
+        };
+        memory.normal = g.normal;
+        let r_eff = held_radius(&mut memory.radius, g.r_eff);
+        let (ci, cj) = (g.point - a.pos(), g.point - b.pos());
+        let v = a.vel() + a.omega().cross(&ci) - b.vel() - b.omega().cross(&cj);
+        let c =
+            hertz_mindlin::<DAMP, FRIC>(k, &g.normal, g.depth, r_eff, m_eff, &v, hist, dt, update);
+        return Some(PairOut {
+            force: c.force,
+            torque_i: ci.cross(&c.force),
+            torque_j: -cj.cross(&c.force),
+            point: g.point,
+            normal: g.normal,
+            c: ContactOut::from(&c),
+        });
+    }
+    let r = r2.sqrt();
+    let n = if r > 0.0 { d / r } else { Vec3::z() };
+    let delta = rsum - r;
+    let r_eff = ri * rj / rsum;
+    let (di, dj) = (ri - 0.5 * delta, rj - 0.5 * delta);
+    let mut v = a.vel() - b.vel();
+    if FRIC {
+        v -= (a.omega() * di + b.omega() * dj).cross(&n);
+    }
+    let c = hertz_mindlin::<DAMP, FRIC>(k, &n, delta, r_eff, m_eff, &v, hist, dt, update);
+    let (torque_i, torque_j) = if FRIC {
+        let nxf = n.cross(&c.force);
+        (nxf * (-di), nxf * (-dj))
+    } else {
+        (Vec3::zeros(), Vec3::zeros())
+    };
+    Some(PairOut {
+        force: c.force,
+        torque_i,
+        torque_j,
+        point: a.pos() - n * di,
+        normal: n,
+        c: ContactOut::from(&c),
+    })
+}
+
+/// The force of the wall through `wall_point` (unit normal `wall_normal` into the bodies'
+/// side, moving at `wall_velocity`) on body a, or None when they do not touch: the
+/// per-candidate kernel of the contact effect's wall loop (with `POLY` a poly-ellipsoid's
+/// closed-form wall contact, with the Hertz radius held in `held`; else the sphere's).
+/// `hist` is the candidate's tangential displacement (FRIC). The wall receives the opposite
+/// force; `torque_j` is zero.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn wall_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
+    k: &KernelConsts,
+    a: &impl ContactBody,
+    wall_normal: &Vec3,
+    wall_point: &Vec3,
+    wall_velocity: &Vec3,
+    hist: &mut Vec3,
+    held: &mut f64,
+    dt: f64,
+    update: bool,
+) -> Option<PairOut> {
+    let r = a.radius();
+    let n = *wall_normal;
+    // Lever from the centre to the contact point, overlap, Hertz radius.
+    let (lever, delta, r_eff) = if POLY && !a.is_sphere() {
+        match convex::wall_contact(&a.placed(), &n, wall_point) {
+            Some(g) => (g.point - a.pos(), g.depth, held_radius(held, g.r_eff)),
+            None => (Vec3::zeros(), 0.0, 0.0),
+        }
+    } else {
+        let delta = r - plane_distance(wall_point, &n, &a.pos());
+        (n * (delta - r), delta, r)
+    };
+    if delta <= 0.0 {
+        if FRIC {
+            *hist = Vec3::zeros();
+        }
+        if POLY {
+            *held = 0.0;
+        }
+        return None;
+    }
+    let mut v = a.vel() - wall_velocity;
+    if FRIC || POLY {
+        v += a.omega().cross(&lever);
+    }
+    let c = hertz_mindlin::<DAMP, FRIC>(k, &n, delta, r_eff, a.mass(), &v, hist, dt, update);
+    Some(PairOut {
+        force: c.force,
+        torque_i: if FRIC || POLY {
+            lever.cross(&c.force)
+        } else {
+            Vec3::zeros()
+        },
+        torque_j: Vec3::zeros(),
+        point: a.pos() + lever,
+        normal: n,
+        c: ContactOut::from(&c),
+    })
 }
 
 pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
@@ -297,26 +606,10 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
     /// Places every poly-ellipsoid in the world for this evaluation.
     fn place(&mut self, bodies: &Bodies) {
         self.placements.clear();
-        self.placements.extend((0..bodies.len()).map(|i| {
-            let (origin, q) = bodies.shape_placement(i);
-            Placement {
-                origin,
-                rot: q.to_rotation_matrix().into_inner(),
-            }
-        }));
-    }
-
-    /// Body i as a convex shape in the world.
-    #[inline(always)]
-    fn placed<'a>(&self, bodies: &'a Bodies, i: usize) -> Placed<'a> {
-        match &bodies.shape[i] {
-            // Polyhedra are dlsm elements, which never reach the granular contact.
-            Shape::Sphere | Shape::Polyhedron => Placed::sphere(bodies.radius[i], bodies.pos[i]),
-            Shape::PolyEllipsoid { pe, .. } => {
-                let p = &self.placements[i];
-                Placed::poly_ellipsoid(pe, p.origin, p.rot)
-            }
-        }
+        self.placements.extend(
+            (0..bodies.len())
+                .map(|i| Placement::of(&bodies.pos[i], &bodies.orientation[i], &bodies.shape[i])),
+        );
     }
 
     fn rebuild_pairs(&mut self, bodies: &Bodies) {
@@ -397,10 +690,9 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         }
     }
 
-    /// The force of the pair (i, j), or None when the bodies do not overlap. `nrm` is the
-    /// pair's last normal (POLY), which warm-starts the contact search.
+    /// The force of the pair (i, j), or None when the bodies do not overlap. `memory` is what
+    /// the pair remembers (POLY): its last normal warm-starts the contact search.
     #[inline(always)]
-    #[allow(clippy::too_many_arguments)]
     fn pair_force(
         &self,
         bodies: &Bodies,
@@ -410,99 +702,20 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         memory: &mut PairMemory,
         ctx: &StepContext,
     ) -> Option<PairOut> {
-        let d = bodies.pos[i] - bodies.pos[j];
-        let (ri, rj) = (bodies.radius[i], bodies.radius[j]);
-        let rsum = ri + rj;
-        let r2 = d.norm_squared();
-        if r2 >= rsum * rsum {
-            if FRIC {
-                *hist = Vec3::zeros();
-            }
-            if POLY {
-                memory.radius = 0.0;
-            }
-            return None;
-        }
-        let m_eff = if DAMP {
-            let (mi, mj) = (bodies.mass[i], bodies.mass[j]);
-            mi * mj / (mi + mj)
-        } else {
-            0.0
+        let at = |i| BodyAt {
+            bodies,
+            placements: &self.placements,
+            i,
         };
-        if POLY && !(bodies.shape[i].is_sphere() && bodies.shape[j].is_sphere()) {
-            let guess = if memory.normal == Vec3::zeros() {
-                d
-            } else {
-                memory.normal
-            };
-            let Some(g) = convex::contact(&self.placed(bodies, i), &self.placed(bodies, j), &guess)
-            else {
-                if FRIC {
-                    *hist = Vec3::zeros();
-                }
-                memory.radius = 0.0;
-                return None;
-            };
-            memory.normal = g.normal;
-            let r_eff = held_radius(&mut memory.radius, g.r_eff);
-            let (ci, cj) = (g.point - bodies.pos[i], g.point - bodies.pos[j]);
-            let v = bodies.vel[i] + bodies.omega[i].cross(&ci)
-                - bodies.vel[j]
-                - bodies.omega[j].cross(&cj);
-            let c = hertz_mindlin::<DAMP, FRIC>(
-                &self.k,
-                &g.normal,
-                g.depth,
-                r_eff,
-                m_eff,
-                &v,
-                hist,
-                ctx.dt,
-                ctx.update_history,
-            );
-            return Some(PairOut {
-                force: c.force,
-                torque_i: ci.cross(&c.force),
-                torque_j: -cj.cross(&c.force),
-                point: g.point,
-                normal: g.normal,
-                c: ContactOut::from(&c),
-            });
-        }
-        let r = r2.sqrt();
-        let n = if r > 0.0 { d / r } else { Vec3::z() };
-        let delta = rsum - r;
-        let r_eff = ri * rj / rsum;
-        let (di, dj) = (ri - 0.5 * delta, rj - 0.5 * delta);
-        let mut v = bodies.vel[i] - bodies.vel[j];
-        if FRIC {
-            v -= (bodies.omega[i] * di + bodies.omega[j] * dj).cross(&n);
-        }
-        let c = hertz_mindlin::<DAMP, FRIC>(
+        pair_contact::<DAMP, FRIC, POLY>(
             &self.k,
-            &n,
-            delta,
-            r_eff,
-            m_eff,
-            &v,
+            &at(i),
+            &at(j),
             hist,
+            memory,
             ctx.dt,
             ctx.update_history,
-        );
-        let (torque_i, torque_j) = if FRIC {
-            let nxf = n.cross(&c.force);
-            (nxf * (-di), nxf * (-dj))
-        } else {
-            (Vec3::zeros(), Vec3::zeros())
-        };
-        Some(PairOut {
-            force: c.force,
-            torque_i,
-            torque_j,
-            point: bodies.pos[i] - n * di,
-            normal: n,
-            c: ContactOut::from(&c),
-        })
+        )
     }
 
     fn pairs_serial(&mut self, bodies: &Bodies, forces: &mut Forces, ctx: &StepContext) {
@@ -668,6 +881,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         ctx: &StepContext,
     ) {
         let mut dummy = Vec3::zeros();
+        let mut dummy_radius = 0.0;
         let mut wall_hist = std::mem::take(&mut self.wall_hist);
         let mut wall_radius = std::mem::take(&mut self.wall_radius);
         let mut records = std::mem::take(&mut self.records);
@@ -681,63 +895,39 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                 } else {
                     &mut dummy
                 };
-                let r = bodies.radius[i];
-                let n = wall.normal;
-                // Lever from the centre to the contact point, overlap, Hertz radius.
-                let (lever, delta, r_eff) = if POLY && !bodies.shape[i].is_sphere() {
-                    match convex::wall_contact(&this.placed(bodies, i), &n, &wall.point) {
-                        Some(g) => (
-                            g.point - bodies.pos[i],
-                            g.depth,
-                            held_radius(&mut wall_radius[w][c], g.r_eff),
-                        ),
-                        None => (Vec3::zeros(), 0.0, 0.0),
-                    }
+                let held = if POLY {
+                    &mut wall_radius[w][c]
                 } else {
-                    let delta = r - wall.distance(&bodies.pos[i]);
-                    (n * (delta - r), delta, r)
+                    &mut dummy_radius
                 };
-                if delta <= 0.0 {
-                    if FRIC {
-                        *h = Vec3::zeros();
-                    }
-                    if POLY {
-                        wall_radius[w][c] = 0.0;
-                    }
-                    continue;
-                }
-                let mut v = bodies.vel[i] - wall.velocity;
-                if FRIC || POLY {
-                    v += bodies.omega[i].cross(&lever);
-                }
-                let c = hertz_mindlin::<DAMP, FRIC>(
+                let body = BodyAt {
+                    bodies,
+                    placements: &this.placements,
+                    i,
+                };
+                let Some(p) = wall_contact::<DAMP, FRIC, POLY>(
                     &this.k_wall,
-                    &n,
-                    delta,
-                    r_eff,
-                    bodies.mass[i],
-                    &v,
+                    &body,
+                    &wall.normal,
+                    &wall.point,
+                    &wall.velocity,
                     h,
+                    held,
                     ctx.dt,
                     ctx.update_history,
-                );
-                forces.force[i] += c.force;
+                ) else {
+                    continue;
+                };
+                forces.force[i] += p.force;
                 if FRIC || POLY {
-                    forces.torque[i] += lever.cross(&c.force);
+                    forces.torque[i] += p.torque_i;
                 }
                 if POLY {
-                    let out = PairOut {
-                        force: c.force,
-                        point: bodies.pos[i] + lever,
-                        normal: n,
-                        c: ContactOut::from(&c),
-                        ..Default::default()
-                    };
-                    records.list.push(out.record(i, WALL | w as u32));
-                    records.dissipated += c.dissipated;
+                    records.list.push(p.record(i, WALL | w as u32));
+                    records.dissipated += p.c.dissipated;
                 }
-                wall.force -= c.force;
-                wall.stiffness += c.stiffness;
+                wall.force -= p.force;
+                wall.stiffness += p.c.stiffness;
                 wall.contacts += 1;
             }
         }

@@ -9,7 +9,7 @@
 //! (Eq. 37) the area under the law is G_c A (Eq. 36), and the force falls continuously to zero,
 //! where the spring breaks for good: breaking releases no force and injects no energy.
 
-use nalgebra::{DMatrix, DVector, Matrix6, Vector6};
+use nalgebra::{DMatrix, DVector, Matrix6, UnitQuaternion, Vector6};
 use serde::{Deserialize, Serialize};
 
 use crate::state::Vec3;
@@ -52,6 +52,46 @@ impl Spring {
         (self.f0 - self.k * opening).max(0.0)
     }
 
+    /// One evaluation of the spring between A at `pos_a` turned by `qa` and B at `pos_b` turned
+    /// by `qb` (m, body to world): the largest elongation grows to the ends' distance, the
+    /// force (Eq. 35) acts along the initial direction turned with A, and the work it did on
+    /// the pair since the last evaluation (trapezoid rule with the last force) is counted.
+    /// When the force has fallen to zero the spring breaks for good and acts no more.
+    #[inline]
+    pub fn act(
+        &mut self,
+        pos_a: &Vec3,
+        qa: &UnitQuaternion<f64>,
+        pos_b: &Vec3,
+        qb: &UnitQuaternion<f64>,
+    ) -> SpringAction {
+        let (la, lb) = (qa * self.on_a, qb * self.on_b);
+        let gap = (pos_a + la) - (pos_b + lb);
+        self.opening = self.opening.max(gap.norm());
+        let f = self.force_at(self.opening);
+        let force = (qa * self.direction) * f;
+        // Work on the pair over the step: the force on A times A's end's motion relative
+        // to B's (trapezoid with the last force).
+        let work = 0.5 * (force + self.last_force).dot(&(gap - self.last_gap));
+        self.last_gap = gap;
+        self.last_force = force;
+        if f <= 0.0 {
+            self.broken = true;
+            return SpringAction {
+                work,
+                broke: true,
+                ..SpringAction::default()
+            };
+        }
+        SpringAction {
+            force,
+            torque_a: la.cross(&force),
+            torque_b: -lb.cross(&force),
+            work,
+            broke: false,
+        }
+    }
+
     /// The energy the spring holds, f²/(2k) (J): G_c A when new, 0 when broken.
     pub fn stored_energy(&self) -> f64 {
         if self.broken {
@@ -61,6 +101,18 @@ impl Spring {
             f * f / (2.0 * self.k)
         }
     }
+}
+
+/// What one evaluation of a spring ([`Spring::act`]) does: the force on A (N; B gets the
+/// opposite), the torques on A and on B about their centres of mass (N·m), the work done on
+/// the pair since the last evaluation (J), and whether the spring broke (then no force).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SpringAction {
+    pub force: Vec3,
+    pub torque_a: Vec3,
+    pub torque_b: Vec3,
+    pub work: f64,
+    pub broke: bool,
 }
 
 /// What the springs of one split must do, world frame, relative to A's centre of mass:

@@ -35,7 +35,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::effects::ContactRecords;
 use crate::probe::fragments;
-use crate::state::{Bodies, Forces, Vec3};
+use crate::state::{Bodies, Body, Forces, Vec3};
 use break_plane::Trigger;
 use cohesion::{Demand, Spring};
 use subdivision::Parent;
@@ -233,27 +233,22 @@ impl GrainFracture {
         let mut work = 0.0;
         for s in self.springs.iter_mut().filter(|s| !s.broken) {
             let (a, b) = (s.a as usize, s.b as usize);
-            let (qa, qb) = (&bodies.orientation[a], &bodies.orientation[b]);
-            let (la, lb) = (qa * s.on_a, qb * s.on_b);
-            let gap = (bodies.pos[a] + la) - (bodies.pos[b] + lb);
-            s.opening = s.opening.max(gap.norm());
-            let f = s.force_at(s.opening);
-            let force = (qa * s.direction) * f;
-            // Work on the pair over the step: the force on A times A's end's motion relative
-            // to B's (trapezoid with the last force).
-            work += 0.5 * (force + s.last_force).dot(&(gap - s.last_gap));
-            s.last_gap = gap;
-            s.last_force = force;
-            if f <= 0.0 {
-                s.broken = true;
+            let f = s.act(
+                &bodies.pos[a],
+                &bodies.orientation[a],
+                &bodies.pos[b],
+                &bodies.orientation[b],
+            );
+            work += f.work;
+            if f.broke {
                 self.bonds[a] -= 1;
                 self.bonds[b] -= 1;
                 continue;
             }
-            forces.force[a] += force;
-            forces.force[b] -= force;
-            forces.torque[a] += la.cross(&force);
-            forces.torque[b] -= lb.cross(&force);
+            forces.force[a] += f.force;
+            forces.force[b] -= f.force;
+            forces.torque[a] += f.torque_a;
+            forces.torque[b] += f.torque_b;
         }
         self.spring_work += work;
     }
@@ -297,42 +292,26 @@ impl GrainFracture {
             if self.bonds[i] != 0 || *m == Matrix3::zeros() {
                 continue;
             }
-            let stress = self.average_stress(bodies, forces, i, m);
-            let [s1, _, s3] = criteria::principal_compression_values(&stress);
-            if criteria::hoek_brown_fails(s1, s3, p.sigma_c * self.strength[i], p.mi) {
-                out.push((i, Trigger::HoekBrown { stress }, Criterion::HoekBrown, s1));
-                continue;
-            }
             let crit = &critical[start..c];
-            if crit.len() >= p.critical_contacts {
-                let pts: Vec<Vec3> = crit.iter().take(3).map(|x| x.2).collect();
-                if let Some(normal) = break_plane::contacts_plane_normal(&pts) {
-                    out.push((
-                        i,
-                        Trigger::Contacts { normal },
-                        Criterion::Contacts,
-                        crit[0].1,
-                    ));
-                }
+            let mut points = [Vec3::zeros(); 3];
+            for (q, x) in points.iter_mut().zip(crit) {
+                *q = x.2;
+            }
+            let top = crit.first().map_or(0.0, |x| x.1);
+            if let Some((trigger, criterion, stress)) = grain_fails(
+                p,
+                &bodies.body(i),
+                self.strength[i],
+                m,
+                &forces.torque[i],
+                crit.len(),
+                &points[..crit.len().min(3)],
+                top,
+            ) {
+                out.push((i, trigger, criterion, stress));
             }
         }
         out
-    }
-
-    /// The average stress of body i (Eq. 8–13) from its contact moment `Σ f ⊗ x` and its
-    /// motion: the angular acceleration from the torque of `forces`.
-    fn average_stress(
-        &self,
-        bodies: &Bodies,
-        forces: &Forces,
-        i: usize,
-        moment: &Matrix3<f64>,
-    ) -> Matrix3<f64> {
-        let rot = bodies.orientation[i].to_rotation_matrix().into_inner();
-        let mass_moment = criteria::mass_moment(&bodies.inertia[i], &rot);
-        let alpha = angular_acceleration(bodies, forces, i);
-        let v = bodies.volume(i);
-        criteria::average_stress_from_moment(v, moment, &mass_moment, &alpha, &bodies.omega[i])
     }
 
     /// Splits the breaking grains: each parent becomes its + half in place and its − half is
@@ -347,21 +326,21 @@ impl GrainFracture {
     ) -> Vec<PendingSplit> {
         let mut pending = Vec::new();
         for &(i, trigger, criterion, stress) in breaking {
-            let Some((parent, axis)) = self.break_geometry(bodies, i, &trigger) else {
+            // A sphere's random slight rotation is drawn here, before the halves' strengths.
+            let jitter = (bodies.shape[i].is_sphere() && self.params.plane_jitter)
+                .then(|| break_plane::random_jitter_angles(&mut self.rng));
+            let Some(made) = split_grain(
+                &self.params,
+                &bodies.body(i),
+                &forces.force[i],
+                &forces.torque[i],
+                &trigger,
+                jitter,
+            ) else {
                 continue;
             };
-            let [plus, minus] = subdivision::split(&parent, axis);
-            let accel = forces.force[i] * bodies.inv_mass[i];
-            let alpha = angular_acceleration(bodies, forces, i);
-            let mut halves = Bodies::default();
-            for h in [&plus, &minus] {
-                let k = halves.push_poly_ellipsoid(h.pe, h.mass, h.centroid, parent.frame);
-                halves.vel[k] = h.velocity;
-                halves.omega[k] = parent.omega;
-            }
-            bodies.copy_from(i, &halves, 0);
-            let b = bodies.len();
-            bodies.push_from(&halves, 1);
+            bodies.set(i, &made.plus);
+            let b = bodies.push(made.minus);
             self.origin.push(self.origin[i]);
             let generation = self.generation[i].saturating_add(1);
             self.generation[i] = generation;
@@ -371,25 +350,6 @@ impl GrainFracture {
             self.strength[i] = self.draw_strength(bodies, i);
             self.strength[b] = self.draw_strength(bodies, b);
             self.broken[self.origin[i] as usize] = true;
-            let mut split = PendingSplit {
-                a: i,
-                b,
-                centroid: parent.centroid,
-                accel,
-                alpha,
-                omega: parent.omega,
-                points: [Vec3::zeros(); 16],
-                count: 0,
-                area: 0.0,
-            };
-            if let Some((_, ns)) = self.params.cohesion {
-                let (local, area) = cohesion::spring_layout(&parent.semi, axis, ns);
-                for (k, p) in local.iter().enumerate() {
-                    split.points[k] = parent.origin + parent.frame * p;
-                }
-                split.count = local.len();
-                split.area = area;
-            }
             self.events.push(SplitEvent {
                 step,
                 time,
@@ -399,49 +359,13 @@ impl GrainFracture {
                 stress,
                 springs: 0,
             });
-            pending.push(split);
+            pending.push(PendingSplit {
+                a: i,
+                b,
+                ..made.pending
+            });
         }
         pending
-    }
-
-    /// The parent of a split as the subdivision sees it and the axis to split along; `None`
-    /// when the grain's shape forbids breaking (Section 3.3.3). A sphere first turns its
-    /// principal directions to the ideal plane and by the random slight rotation, when the
-    /// scene asks.
-    fn break_geometry(
-        &mut self,
-        bodies: &mut Bodies,
-        i: usize,
-        trigger: &Trigger,
-    ) -> Option<(Parent, usize)> {
-        let semi = bodies.shape[i].semi_axes(bodies.radius[i]);
-        let sphere = bodies.shape[i].is_sphere();
-        let axis = if sphere && self.params.ideal_plane {
-            bodies.orientation[i] =
-                break_plane::turn_to_ideal(&bodies.orientation[i], &trigger.ideal_normal());
-            0
-        } else {
-            let (_, q) = bodies.shape_placement(i);
-            let axes = [q * Vec3::x(), q * Vec3::y(), q * Vec3::z()];
-            break_plane::break_axis(&semi, &axes, trigger)?
-        };
-        if sphere && self.params.plane_jitter {
-            let angles = break_plane::random_jitter_angles(&mut self.rng);
-            bodies.orientation[i] = break_plane::jittered(&bodies.orientation[i], angles);
-        }
-        let (origin, frame) = bodies.shape_placement(i);
-        Some((
-            Parent {
-                semi,
-                origin,
-                frame,
-                mass: bodies.mass[i],
-                centroid: bodies.pos[i],
-                velocity: bodies.vel[i],
-                omega: bodies.omega[i],
-            },
-            axis,
-        ))
     }
 
     /// Makes the springs of this step's splits (with `cohesion`) from the halves' forces at
@@ -456,59 +380,28 @@ impl GrainFracture {
             .zip(self.events.iter_mut().rev().take(pending.len()).rev())
         {
             let (a, b) = (split.a, split.b);
-            let demand_of = |k: usize| {
-                let r = bodies.pos[k] - split.centroid;
-                let accel =
-                    split.accel + split.alpha.cross(&r) + split.omega.cross(&split.omega.cross(&r));
-                let force = accel * bodies.mass[k] - forces.force[k];
-                let iw = world_inertia(bodies, k);
-                let torque =
-                    iw * split.alpha + split.omega.cross(&(iw * split.omega)) - forces.torque[k];
-                (force, torque)
-            };
-            let (force_a, torque_a) = demand_of(a);
-            let (force_b, torque_b) = demand_of(b);
-            let points: Vec<Vec3> = split.points[..split.count]
-                .iter()
-                .map(|p| p - bodies.pos[a])
-                .collect();
-            let demand = Demand {
-                force_a,
-                torque_a,
-                force_b,
-                torque_b,
-                b_offset: bodies.pos[b] - bodies.pos[a],
-            };
-            let f = cohesion::initial_forces(&points, &demand);
-            let (qa, qb) = (bodies.orientation[a], bodies.orientation[b]);
             let mut made = 0;
-            let scale = demand.force_a.norm() + demand.force_b.norm();
-            for (p, fk) in points.iter().zip(&f) {
-                let f0 = fk.norm();
-                // A spring with no force would break at once: it is not made.
-                if f0 <= 1e-12 * scale {
-                    continue;
-                }
-                let world = p + bodies.pos[a];
-                self.springs.push(Spring {
-                    a: a as u32,
-                    b: b as u32,
-                    on_a: qa.inverse() * (world - bodies.pos[a]),
-                    on_b: qb.inverse() * (world - bodies.pos[b]),
-                    direction: qa.inverse() * (fk / f0),
-                    f0,
-                    k: f0 * f0 / (2.0 * gc * split.area),
-                    opening: 0.0,
-                    last_gap: Vec3::zeros(),
-                    last_force: *fk,
-                    broken: false,
-                });
-                forces.force[a] += fk;
-                forces.force[b] -= fk;
-                forces.torque[a] += p.cross(fk);
-                forces.torque[b] -= (world - bodies.pos[b]).cross(fk);
-                made += 1;
-            }
+            let (force_a, torque_a) = (forces.force[a], forces.torque[a]);
+            let (force_b, torque_b) = (forces.force[b], forces.torque[b]);
+            bond_split(
+                gc,
+                &bodies.body(a),
+                &bodies.body(b),
+                [&force_a, &torque_a, &force_b, &torque_b],
+                split,
+                |m| {
+                    self.springs.push(Spring {
+                        a: a as u32,
+                        b: b as u32,
+                        ..m.spring
+                    });
+                    forces.force[a] += m.force;
+                    forces.force[b] -= m.force;
+                    forces.torque[a] += m.torque_a;
+                    forces.torque[b] += m.torque_b;
+                    made += 1;
+                },
+            );
             self.bonds[a] += made;
             self.bonds[b] += made;
             event.springs = made as u32;
@@ -516,18 +409,245 @@ impl GrainFracture {
     }
 }
 
-/// Body k's inertia tensor in the world frame.
-fn world_inertia(bodies: &Bodies, k: usize) -> Matrix3<f64> {
-    let r = bodies.orientation[k].to_rotation_matrix().into_inner();
-    r * Matrix3::from_diagonal(&bodies.inertia[k]) * r.transpose()
+/// The average stress of a grain (Pa, tension positive, world frame; Eq. 8–13) from its
+/// contact moment `Σ f ⊗ x` (N·m, x from its centre of mass) and its motion: the angular
+/// acceleration from `torque` (N·m, world) and its angular velocity.
+pub fn grain_average_stress(body: &Body, moment: &Matrix3<f64>, torque: &Vec3) -> Matrix3<f64> {
+    let rot = body.orientation.to_rotation_matrix().into_inner();
+    let mass_moment = criteria::mass_moment(&body.inertia, &rot);
+    let alpha = angular_acceleration(body, torque);
+    let v = body.volume();
+    criteria::average_stress_from_moment(v, moment, &mass_moment, &alpha, &body.omega)
 }
 
-/// Angular acceleration of body k under the torque in `forces`: `I⁻¹ (T − ω × I ω)`.
-fn angular_acceleration(bodies: &Bodies, forces: &Forces, k: usize) -> Vec3 {
-    let q: &UnitQuaternion<f64> = &bodies.orientation[k];
-    let w = q.inverse_transform_vector(&bodies.omega[k]);
-    let t = q.inverse_transform_vector(&forces.torque[k]);
-    let i = bodies.inertia[k];
+/// Whether a free grain fails, and why: the per-grain decision of [`GrainFracture::check`].
+/// Hoek–Brown first, on the average stress ([`grain_average_stress`] of the contact moment
+/// `moment` and the torque `torque`) with σc scaled by the grain's Weibull factor `strength`;
+/// then the contacts: `critical` contacts whose tensile stress exceeds σ_fM × `strength`, at
+/// least `critical_contacts` of them, with `points` the first (at most 3) of their points
+/// (largest stress first; world, m) spanning a plane, `top_stress` (Pa) the largest stress.
+/// Returns the trigger, the criterion and the stress that broke the grain (Pa).
+#[allow(clippy::too_many_arguments)]
+pub fn grain_fails(
+    p: &FractureParams,
+    body: &Body,
+    strength: f64,
+    moment: &Matrix3<f64>,
+    torque: &Vec3,
+    critical: usize,
+    points: &[Vec3],
+    top_stress: f64,
+) -> Option<(Trigger, Criterion, f64)> {
+    let stress = grain_average_stress(body, moment, torque);
+    let [s1, _, s3] = criteria::principal_compression_values(&stress);
+    if criteria::hoek_brown_fails(s1, s3, p.sigma_c * strength, p.mi) {
+        return Some((Trigger::HoekBrown { stress }, Criterion::HoekBrown, s1));
+    }
+    if critical >= p.critical_contacts {
+        let points = &points[..points.len().min(3)];
+        if let Some(normal) = break_plane::contacts_plane_normal(points) {
+            return Some((
+                Trigger::Contacts { normal },
+                Criterion::Contacts,
+                top_stress,
+            ));
+        }
+    }
+    None
+}
+
+/// One split of a grain ([`split_grain`]): the axis of the parent's shape frame it split
+/// normal to, the + half (which the parent becomes), the − half (a new body) and what
+/// bonding them needs (its body indices `a`, `b` are the caller's to set).
+#[derive(Debug, Clone, Copy)]
+pub struct GrainSplit {
+    pub axis: usize,
+    pub plus: Body,
+    pub minus: Body,
+    pub pending: PendingSplit,
+}
+
+/// Splits `body` under the force and torque `force`, `torque` (N, N·m, world) that it carries,
+/// for the reason `trigger`: the break plane (a sphere first turns to the ideal plane and by
+/// the slight rotation `jitter`, the angles of [`break_plane::random_jitter_angles`], when
+/// the scene asks), the two halves with the parent's motion, and the pending bond with its
+/// spring points (with cohesion). `None` when the grain's shape forbids breaking.
+pub fn split_grain(
+    p: &FractureParams,
+    body: &Body,
+    force: &Vec3,
+    torque: &Vec3,
+    trigger: &Trigger,
+    jitter: Option<[f64; 3]>,
+) -> Option<GrainSplit> {
+    let mut body = *body;
+    let (parent, axis) = break_geometry(p, &mut body, trigger, jitter)?;
+    let [plus, minus] = subdivision::split(&parent, axis);
+    let accel = force * body.inv_mass;
+    let alpha = angular_acceleration(&body, torque);
+    let half = |h: &subdivision::Half| Body {
+        vel: h.velocity,
+        omega: parent.omega,
+        ..Body::poly_ellipsoid(h.pe, h.mass, h.centroid, parent.frame)
+    };
+    let mut pending = PendingSplit {
+        a: 0,
+        b: 0,
+        centroid: parent.centroid,
+        accel,
+        alpha,
+        omega: parent.omega,
+        points: [Vec3::zeros(); 16],
+        count: 0,
+        area: 0.0,
+    };
+    if let Some((_, ns)) = p.cohesion {
+        let (local, area) = cohesion::spring_layout(&parent.semi, axis, ns);
+        for (k, q) in local.iter().enumerate() {
+            pending.points[k] = parent.origin + parent.frame * q;
+        }
+        pending.count = local.len();
+        pending.area = area;
+    }
+    Some(GrainSplit {
+        axis,
+        plus: half(&plus),
+        minus: half(&minus),
+        pending,
+    })
+}
+
+/// The parent of a split as the subdivision sees it and the axis to split along; `None`
+/// when the grain's shape forbids breaking (Section 3.3.3). A sphere first turns its
+/// principal directions (`body.orientation`) to the ideal plane and by the random slight
+/// rotation `jitter`, when the scene asks.
+fn break_geometry(
+    p: &FractureParams,
+    body: &mut Body,
+    trigger: &Trigger,
+    jitter: Option<[f64; 3]>,
+) -> Option<(Parent, usize)> {
+    let semi = body.shape.semi_axes(body.radius);
+    let sphere = body.shape.is_sphere();
+    let axis = if sphere && p.ideal_plane {
+        body.orientation = break_plane::turn_to_ideal(&body.orientation, &trigger.ideal_normal());
+        0
+    } else {
+        let (_, q) = body.shape_placement();
+        let axes = [q * Vec3::x(), q * Vec3::y(), q * Vec3::z()];
+        break_plane::break_axis(&semi, &axes, trigger)?
+    };
+    if sphere && p.plane_jitter {
+        if let Some(angles) = jitter {
+            body.orientation = break_plane::jittered(&body.orientation, angles);
+        }
+    }
+    let (origin, frame) = body.shape_placement();
+    Some((
+        Parent {
+            semi,
+            origin,
+            frame,
+            mass: body.mass,
+            centroid: body.pos,
+            velocity: body.vel,
+            omega: body.omega,
+        },
+        axis,
+    ))
+}
+
+/// A spring [`bond_split`] made: the spring (body indices 0, the caller's to set) and what it
+/// adds at once: `force` on A (N; B gets the opposite) and the torques on A and on B about
+/// their centres of mass (N·m).
+#[derive(Debug, Clone)]
+pub struct MadeSpring {
+    pub spring: Spring,
+    pub force: Vec3,
+    pub torque_a: Vec3,
+    pub torque_b: Vec3,
+}
+
+/// The springs of one split (Eq. 39–43), handed to `made` in the order of the split's points:
+/// their initial forces make each half accelerate and turn as the parent did, given the
+/// halves `a` (the + half) and `b` and the forces and torques on them after the split,
+/// `[force_a, torque_a, force_b, torque_b]` (N, N·m, world). A spring that would carry no
+/// force (|f| <= 1e-12 of the demand) is not made. `gc` is the cohesive energy (J/m²).
+pub fn bond_split(
+    gc: f64,
+    a: &Body,
+    b: &Body,
+    loads: [&Vec3; 4],
+    split: &PendingSplit,
+    mut made: impl FnMut(MadeSpring),
+) {
+    let [force_a, torque_a, force_b, torque_b] = loads;
+    let demand_of = |k: &Body, force: &Vec3, torque: &Vec3| {
+        let r = k.pos - split.centroid;
+        let accel = split.accel + split.alpha.cross(&r) + split.omega.cross(&split.omega.cross(&r));
+        let force = accel * k.mass - force;
+        let iw = world_inertia(k);
+        let torque = iw * split.alpha + split.omega.cross(&(iw * split.omega)) - torque;
+        (force, torque)
+    };
+    let (force_a, torque_a) = demand_of(a, force_a, torque_a);
+    let (force_b, torque_b) = demand_of(b, force_b, torque_b);
+    let mut points = [Vec3::zeros(); 16];
+    for (p, q) in points.iter_mut().zip(&split.points[..split.count]) {
+        *p = q - a.pos;
+    }
+    let points = &points[..split.count];
+    let demand = Demand {
+        force_a,
+        torque_a,
+        force_b,
+        torque_b,
+        b_offset: b.pos - a.pos,
+    };
+    let f = cohesion::initial_forces(points, &demand);
+    let (qa, qb) = (a.orientation, b.orientation);
+    let scale = demand.force_a.norm() + demand.force_b.norm();
+    for (p, fk) in points.iter().zip(&f) {
+        let f0 = fk.norm();
+        // A spring with no force would break at once: it is not made.
+        if f0 <= 1e-12 * scale {
+            continue;
+        }
+        let world = p + a.pos;
+        made(MadeSpring {
+            spring: Spring {
+                a: 0,
+                b: 0,
+                on_a: qa.inverse() * (world - a.pos),
+                on_b: qb.inverse() * (world - b.pos),
+                direction: qa.inverse() * (fk / f0),
+                f0,
+                k: f0 * f0 / (2.0 * gc * split.area),
+                opening: 0.0,
+                last_gap: Vec3::zeros(),
+                last_force: *fk,
+                broken: false,
+            },
+            force: *fk,
+            torque_a: p.cross(fk),
+            torque_b: -(world - b.pos).cross(fk),
+        });
+    }
+}
+
+/// A body's inertia tensor in the world frame (kg·m²).
+fn world_inertia(body: &Body) -> Matrix3<f64> {
+    let r = body.orientation.to_rotation_matrix().into_inner();
+    r * Matrix3::from_diagonal(&body.inertia) * r.transpose()
+}
+
+/// Angular acceleration (rad/s², world) of a body under the torque `torque` (N·m, world):
+/// `I⁻¹ (T − ω × I ω)`.
+pub fn angular_acceleration(body: &Body, torque: &Vec3) -> Vec3 {
+    let q: &UnitQuaternion<f64> = &body.orientation;
+    let w = q.inverse_transform_vector(&body.omega);
+    let t = q.inverse_transform_vector(torque);
+    let i = body.inertia;
     let l = w.component_mul(&i);
     q * (t - w.cross(&l)).component_div(&i)
 }

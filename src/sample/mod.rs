@@ -14,6 +14,7 @@ mod random_pack;
 pub mod voronoi;
 
 use nalgebra::UnitQuaternion;
+use rand::distr::OpenClosed01;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
@@ -52,6 +53,34 @@ pub(crate) fn stream(seed: u64, purpose: u64) -> ChaCha8Rng {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(purpose);
     rng
+}
+
+/// Counters of [`uniforms`] run below this: 2³⁶ windows of 2³² words fill ChaCha's 68-bit
+/// word position.
+pub const UNIFORM_COUNTERS: u64 = 1 << 36;
+
+/// At most this many variates per (seed, key, counter) window: 2³¹, two 32-bit words each.
+pub const UNIFORMS_PER_COUNTER: usize = 1 << 31;
+
+/// Fills `out` with uniform variates in (0, 1] (53 random bits each, `rand`'s `OpenClosed01`)
+/// from the ChaCha8 generator of `seed` (seeded as the scene's streams are) on stream `key`,
+/// from word `counter × 2³²` on. The same (seed, key, counter) always gives the same numbers,
+/// whoever draws them: a host can key a grain's draws by its identity and count them by its
+/// splits, independently of how the grains are spread over processes.
+///
+/// # Panics
+/// When `counter >= UNIFORM_COUNTERS` or `out` is longer than `UNIFORMS_PER_COUNTER`.
+pub fn uniforms(seed: u64, key: u64, counter: u64, out: &mut [f64]) {
+    assert!(
+        counter < UNIFORM_COUNTERS && out.len() <= UNIFORMS_PER_COUNTER,
+        "uniforms: counter {counter} or count {} out of range",
+        out.len()
+    );
+    let mut rng = stream(seed, key);
+    rng.set_word_pos(u128::from(counter) << 32);
+    for x in out {
+        *x = rng.sample(OpenClosed01);
+    }
 }
 
 pub(crate) const STREAM_RADII: u64 = 1;

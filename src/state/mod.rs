@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::shape::{self, PolyEllipsoid, Shape};
 
-pub use walls::{BoxFace, Wall, Walls};
+pub use walls::{BoxFace, Wall, Walls, plane_distance};
 
 pub type Vec3 = Vector3<f64>;
 
@@ -77,51 +77,52 @@ impl Bodies {
         centroid: Vec3,
         shape_orientation: UnitQuaternion<f64>,
     ) -> usize {
-        let (moments, frame) = pe.principal_inertia(mass / pe.volume());
-        let to_body = frame.inverse();
-        self.pos.push(centroid);
-        self.vel.push(Vec3::zeros());
-        self.omega.push(Vec3::zeros());
-        self.orientation.push(shape_orientation * frame);
-        self.radius.push(pe.bounding_radius());
-        self.mass.push(mass);
-        self.inv_mass.push(1.0 / mass);
-        self.inertia.push(moments);
-        self.inv_inertia.push(moments.map(|m| 1.0 / m));
-        self.shape.push(Shape::PolyEllipsoid {
-            pe,
-            origin: to_body * -pe.centroid(),
-            to_body,
-        });
+        self.push(Body::poly_ellipsoid(pe, mass, centroid, shape_orientation))
+    }
+
+    /// Appends `body`; returns its index.
+    pub fn push(&mut self, body: Body) -> usize {
+        self.pos.push(body.pos);
+        self.vel.push(body.vel);
+        self.omega.push(body.omega);
+        self.orientation.push(body.orientation);
+        self.radius.push(body.radius);
+        self.mass.push(body.mass);
+        self.inv_mass.push(body.inv_mass);
+        self.inertia.push(body.inertia);
+        self.inv_inertia.push(body.inv_inertia);
+        self.shape.push(body.shape);
         self.len() - 1
     }
 
-    /// Turns body `i` into `other`'s body `k` (every array), keeping the array lengths.
-    pub fn copy_from(&mut self, i: usize, other: &Bodies, k: usize) {
-        self.pos[i] = other.pos[k];
-        self.vel[i] = other.vel[k];
-        self.omega[i] = other.omega[k];
-        self.orientation[i] = other.orientation[k];
-        self.radius[i] = other.radius[k];
-        self.mass[i] = other.mass[k];
-        self.inv_mass[i] = other.inv_mass[k];
-        self.inertia[i] = other.inertia[k];
-        self.inv_inertia[i] = other.inv_inertia[k];
-        self.shape[i] = other.shape[k];
+    /// Turns body `i` into `body` (every array), keeping the array lengths.
+    pub fn set(&mut self, i: usize, body: &Body) {
+        self.pos[i] = body.pos;
+        self.vel[i] = body.vel;
+        self.omega[i] = body.omega;
+        self.orientation[i] = body.orientation;
+        self.radius[i] = body.radius;
+        self.mass[i] = body.mass;
+        self.inv_mass[i] = body.inv_mass;
+        self.inertia[i] = body.inertia;
+        self.inv_inertia[i] = body.inv_inertia;
+        self.shape[i] = body.shape;
     }
 
-    /// Appends `other`'s body `k`.
-    pub fn push_from(&mut self, other: &Bodies, k: usize) {
-        self.pos.push(other.pos[k]);
-        self.vel.push(other.vel[k]);
-        self.omega.push(other.omega[k]);
-        self.orientation.push(other.orientation[k]);
-        self.radius.push(other.radius[k]);
-        self.mass.push(other.mass[k]);
-        self.inv_mass.push(other.inv_mass[k]);
-        self.inertia.push(other.inertia[k]);
-        self.inv_inertia.push(other.inv_inertia[k]);
-        self.shape.push(other.shape[k]);
+    /// A copy of body `i`.
+    pub fn body(&self, i: usize) -> Body {
+        Body {
+            pos: self.pos[i],
+            vel: self.vel[i],
+            omega: self.omega[i],
+            orientation: self.orientation[i],
+            radius: self.radius[i],
+            mass: self.mass[i],
+            inv_mass: self.inv_mass[i],
+            inertia: self.inertia[i],
+            inv_inertia: self.inv_inertia[i],
+            shape: self.shape[i],
+        }
     }
 
     /// Volume (m³) of body i.
@@ -132,15 +133,7 @@ impl Bodies {
     /// The world octant origin (m) and the shape-to-world rotation of body i; for a sphere,
     /// its centre and its body frame.
     pub fn shape_placement(&self, i: usize) -> (Vec3, UnitQuaternion<f64>) {
-        match &self.shape[i] {
-            Shape::Sphere | Shape::Polyhedron => (self.pos[i], self.orientation[i]),
-            Shape::PolyEllipsoid {
-                origin, to_body, ..
-            } => (
-                self.pos[i] + self.orientation[i] * origin,
-                self.orientation[i] * to_body,
-            ),
-        }
+        shape_placement(&self.pos[i], &self.orientation[i], &self.shape[i])
     }
 
     /// dlsm: adds a polyhedron at rest with its centroid at `pos`, principal moments of
@@ -220,6 +213,87 @@ impl Bodies {
                 && self.vel[i].iter().all(|v| v.is_finite())
                 && self.omega[i].iter().all(|v| v.is_finite()))
         })
+    }
+}
+
+/// One body: every array of [`Bodies`] at one index. The kernels that the C ABI exports
+/// (contact, fracture) take and give bodies one at a time in this form.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Body {
+    /// Centre of mass (m).
+    pub pos: Vec3,
+    /// Velocity (m/s).
+    pub vel: Vec3,
+    /// Angular velocity in the world frame (rad/s).
+    pub omega: Vec3,
+    /// Orientation, body to world.
+    pub orientation: UnitQuaternion<f64>,
+    /// Bounding radius (m); the radius of a sphere.
+    pub radius: f64,
+    /// Mass (kg) and its inverse.
+    pub mass: f64,
+    pub inv_mass: f64,
+    /// Principal moments of inertia in the body frame (kg·m²) and their inverses.
+    pub inertia: Vec3,
+    pub inv_inertia: Vec3,
+    pub shape: Shape,
+}
+
+impl Body {
+    /// A poly-ellipsoid of mass `mass` (kg) at rest, with its centroid at `centroid` and its
+    /// shape frame turned by `shape_orientation` (shape to world). Its body frame is its
+    /// principal frame of inertia.
+    pub fn poly_ellipsoid(
+        pe: PolyEllipsoid,
+        mass: f64,
+        centroid: Vec3,
+        shape_orientation: UnitQuaternion<f64>,
+    ) -> Body {
+        let (moments, frame) = pe.principal_inertia(mass / pe.volume());
+        let to_body = frame.inverse();
+        Body {
+            pos: centroid,
+            vel: Vec3::zeros(),
+            omega: Vec3::zeros(),
+            orientation: shape_orientation * frame,
+            radius: pe.bounding_radius(),
+            mass,
+            inv_mass: 1.0 / mass,
+            inertia: moments,
+            inv_inertia: moments.map(|m| 1.0 / m),
+            shape: Shape::PolyEllipsoid {
+                pe,
+                origin: to_body * -pe.centroid(),
+                to_body,
+            },
+        }
+    }
+
+    /// Volume (m³).
+    pub fn volume(&self) -> f64 {
+        self.shape.volume(self.radius)
+    }
+
+    /// The world octant origin (m) and the shape-to-world rotation; for a sphere, its centre
+    /// and its body frame.
+    pub fn shape_placement(&self) -> (Vec3, UnitQuaternion<f64>) {
+        shape_placement(&self.pos, &self.orientation, &self.shape)
+    }
+}
+
+/// The world octant origin (m) and the shape-to-world rotation of a body of shape `shape` at
+/// `pos` turned by `orientation` (body to world); for a sphere, its centre and its body frame.
+#[inline]
+pub fn shape_placement(
+    pos: &Vec3,
+    orientation: &UnitQuaternion<f64>,
+    shape: &Shape,
+) -> (Vec3, UnitQuaternion<f64>) {
+    match shape {
+        Shape::Sphere | Shape::Polyhedron => (*pos, *orientation),
+        Shape::PolyEllipsoid {
+            origin, to_body, ..
+        } => (pos + orientation * origin, orientation * to_body),
     }
 }
 

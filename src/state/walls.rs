@@ -37,13 +37,20 @@ impl Wall {
     /// Signed distance from the plane to `x`, positive on the bodies' side.
     #[inline]
     pub fn distance(&self, x: &Vec3) -> f64 {
-        (x - self.point).dot(&self.normal)
+        plane_distance(&self.point, &self.normal, x)
     }
 
     /// Compressive normal force on the wall (N): positive when the bodies push it outwards.
     pub fn normal_force(&self) -> f64 {
         -self.force.dot(&self.normal)
     }
+}
+
+/// Signed distance from the plane through `point` with unit normal `normal` to `x` (m),
+/// positive on the side the normal points to.
+#[inline(always)]
+pub fn plane_distance(point: &Vec3, normal: &Vec3, x: &Vec3) -> f64 {
+    (x - point).dot(normal)
 }
 
 /// Faces of a rectangular box, in the order the box walls are stored.
