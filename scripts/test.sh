@@ -37,6 +37,9 @@ fi
 step "FMU (dist/Fractum.fmu)"
 bash scripts/pack_fmu.sh
 
+step "LAMMPS plugin (dist/fractumplugin.so)"
+bash scripts/build_lammps_plugin.sh
+
 step "Python tests (tests/python)"
 cargo build --release -p fractum-ffi
 FRACTUM_LIB="${CARGO_TARGET_DIR:-$PWD/target}/release/libfractum.so" .venv/bin/python -m pytest -q tests/python

@@ -20,6 +20,9 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use fractum::{Error, Run, Scene};
 
+mod kernels;
+pub use kernels::*;
+
 /// Status codes returned by every function.
 #[repr(C)]
 #[allow(non_camel_case_types)]

@@ -26,6 +26,23 @@ static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [cohesion KI
    count). */
 enum { KEY_STRENGTH = 1, KEY_JITTER = 2 };
 
+static void cross(const double *a, const double *b, double *c)
+{
+  c[0] = a[1] * b[2] - a[2] * b[1];
+  c[1] = a[2] * b[0] - a[0] * b[2];
+  c[2] = a[0] * b[1] - a[1] * b[0];
+}
+
+/* v turned by the unit quaternion q (w x y z). */
+static void rotate(const double *q, const double *v, double *out)
+{
+  double u[3] = {q[1], q[2], q[3]}, t[3], ut[3];
+  cross(u, v, t);
+  for (int d = 0; d < 3; d++) t[d] *= 2.0;
+  cross(u, t, ut);
+  for (int d = 0; d < 3; d++) out[d] = v[d] + q[0] * t[d] + ut[d];
+}
+
 FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
   bool have_mi = false, have_sc = false, have_sf = false;
@@ -116,10 +133,10 @@ int FixFractumFracture::setmask()
 
 void FixFractumFracture::arrays()
 {
-  const char *hint = "declare `fix ID all property/atom d2_fr_shape 14 d2_fr_quat 4 "
-                     "d2_fr_inertia 3 d2_fr_grain 4 ghost yes` before read_data";
+  const char *hint = "declare the fix property/atom arrays d2_fr_shape 7, d2_fr_orient 7, "
+                     "d2_fr_inertia 7 and d2_fr_grain 4 (ghost yes) before read_data";
   shape = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, hint);
-  quat = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, hint);
+  quat = fractum_array(lmp, STYLE, "fr_orient", QUAT_COLS, hint);
   inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
   grain = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, hint);
   walls = fractum_array_if(lmp, "fr_walls");
@@ -293,11 +310,31 @@ void FixFractumFracture::bond()
     const bool own_a = ia >= 0 && ia < atom->nlocal, own_b = ib >= 0 && ib < atom->nlocal;
     if (!own_a && !own_b) continue;
     FractumSpring made[16];
-    FractumBondForces applied;
     int count = 0;
     int status = fractum_kernel_bond(&law, &ha->body, &hb->body, ha->force, ha->torque,
-                                     hb->force, hb->torque, &p.p, made, &count, &applied);
+                                     hb->force, hb->torque, &p.p, made, &count);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "bond", status);
+    // Each spring's initial force at once, as Fractum applies it: on A at the spring's point
+    // (lever from A's centre), the opposite on B (lever from B's centre).
+    double fa_sum[3] = {0, 0, 0}, ta_sum[3] = {0, 0, 0}, tb_sum[3] = {0, 0, 0};
+    for (int k = 0; k < count; k++) {
+      const double *fk = made[k].last_force;
+      double lever[3], world_b[3];
+      if (count == p.p.count) {
+        for (int d = 0; d < 3; d++) lever[d] = p.p.points[k][d] - ha->body.pos[d];
+      } else {
+        rotate(ha->body.quat, made[k].on_a, lever);
+      }
+      for (int d = 0; d < 3; d++) world_b[d] = lever[d] + ha->body.pos[d] - hb->body.pos[d];
+      double tak[3], tbk[3];
+      cross(lever, fk, tak);
+      cross(world_b, fk, tbk);
+      for (int d = 0; d < 3; d++) {
+        fa_sum[d] += fk[d];
+        ta_sum[d] += tak[d];
+        tb_sum[d] -= tbk[d];
+      }
+    }
     auto store = [&](int i, tagint partner, double role) {
       int s = 0;
       for (int k = 0; k < count; k++) {
@@ -326,15 +363,15 @@ void FixFractumFracture::bond()
     if (own_a) {
       store(ia, p.b, 1.0);
       for (int k = 0; k < 3; k++) {
-        f[ia][k] += applied.force_a[k];
-        torque[ia][k] += applied.torque_a[k];
+        f[ia][k] += fa_sum[k];
+        torque[ia][k] += ta_sum[k];
       }
     }
     if (own_b) {
       store(ib, p.a, -1.0);
       for (int k = 0; k < 3; k++) {
-        f[ib][k] -= applied.force_a[k];
-        torque[ib][k] += applied.torque_b[k];
+        f[ib][k] -= fa_sum[k];
+        torque[ib][k] += tb_sum[k];
       }
     }
   }

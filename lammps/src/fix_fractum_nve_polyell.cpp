@@ -41,7 +41,7 @@ void FixFractumNvePolyell::arrays()
   if (shape) {
     const char *hint = "declare them with the d2_fr_shape array in one fix property/atom";
     shape = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, hint);
-    quat = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, hint);
+    quat = fractum_array(lmp, STYLE, "fr_orient", QUAT_COLS, hint);
     inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
   } else {
     quat = inertia = nullptr;

@@ -1,7 +1,7 @@
 /* fix ID group fractum/nve/polyell: Fractum's velocity Verlet for rigid grains (libfractum's
    fractum_kernel_kick_drift and fractum_kernel_kick, the functions Fractum's integrator runs):
    spheres kick their angular velocity, poly-ellipsoids their angular momentum, and orientations
-   turn by the midpoint rule. The orientations (d2_fr_quat) go to the ghost atoms every step. */
+   turn by the midpoint rule. The orientations (d2_fr_orient) go to the ghost atoms every step. */
 #ifndef FRACTUM_FIX_NVE_POLYELL_H
 #define FRACTUM_FIX_NVE_POLYELL_H
 

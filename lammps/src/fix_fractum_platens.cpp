@@ -121,7 +121,8 @@ void FixFractumPlatens::speeds()
 
 void FixFractumPlatens::setup(int vflag)
 {
-  speeds();
+  // The faces keep the speeds of the last step (zero before the first): as in Fractum, a
+  // speed is set at the start of a step.
   post_force(vflag);
 }
 
@@ -142,7 +143,7 @@ void FixFractumPlatens::post_force(int)
   double **shape = pair->shape_arr, **quat = pair->quat_arr, **inertia = pair->inertia_arr;
   if (shapes) {
     shape = fractum_array_if(lmp, "fr_shape");
-    quat = fractum_array_if(lmp, "fr_quat");
+    quat = fractum_array_if(lmp, "fr_orient");
     inertia = fractum_array_if(lmp, "fr_inertia");
   }
   double **grain = shapes ? fractum_array_if(lmp, "fr_grain") : nullptr;

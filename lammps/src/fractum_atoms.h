@@ -3,16 +3,17 @@
 
    The arrays are `fix property/atom` arrays that the input script declares (fix property/atom
    migrates them with their atoms, sends them to ghosts when declared `ghost yes`, and writes
-   them to restart files):
+   them to restart files). Each has at most 7 columns: read_data reads a section's lines into
+   256-character buffers, which 7 numbers at full precision fit.
 
-     fix ID all property/atom d2_fr_shape 14 d2_fr_quat 4 d2_fr_inertia 3 d2_fr_grain 4 ghost yes
-       fr_shape   [sphere flag, a+ a- b+ b- c+ c-, octant origin in the body frame (3),
-                   shape-to-body quaternion w x y z]
-       fr_quat    body (principal) frame to world, w x y z
-       fr_inertia principal moments of inertia (kg m^2)
-       fr_grain   [Weibull factor of the strengths, tag of the sample grain, splits so far,
-                   intact springs]
-     fix ID all property/atom d2_fr_springs N d2_fr_walls 42        (fracture, platens)
+     fix frshape all property/atom d2_fr_shape 7 ghost yes      [sphere flag, a+ a- b+ b- c+ c-]
+     fix frorient all property/atom d2_fr_orient 7 ghost yes    [body-to-world quaternion w x y z,
+                                                                 octant origin in the body frame]
+     fix frinertia all property/atom d2_fr_inertia 7 ghost yes  [principal moments (kg m^2),
+                                                                 shape-to-body quaternion w x y z]
+     fix frgrain all property/atom d2_fr_grain 4 ghost yes      [Weibull factor, sample grain tag,
+                                                                 splits so far, intact springs]
+     fix frstate all property/atom d2_fr_springs N d2_fr_walls 42   (fracture, platens)
        fr_springs 21 doubles per spring slot (see fix_fractum_fracture.h)
        fr_walls   7 doubles per box face: tangential displacement (3), unused (3), held Hertz
                   radius
@@ -48,7 +49,7 @@ double **fractum_array(LAMMPS *lmp, const char *style, const char *name, int min
 /* The same, nullptr when absent. */
 double **fractum_array_if(LAMMPS *lmp, const char *name, int *cols = nullptr);
 
-enum { SHAPE_COLS = 14, QUAT_COLS = 4, INERTIA_COLS = 3, GRAIN_COLS = 4, WALL_SLOT = 7 };
+enum { SHAPE_COLS = 7, QUAT_COLS = 7, INERTIA_COLS = 7, GRAIN_COLS = 4, WALL_SLOT = 7 };
 
 /* Fills b from atom i (owned or ghost). */
 inline void fractum_body(Atom *atom, double **shape, double **quat, double **inertia, int i,
@@ -59,11 +60,11 @@ inline void fractum_body(Atom *atom, double **shape, double **quat, double **ine
     b.vel[k] = atom->v[i][k];
     b.omega[k] = atom->omega[i][k];
     b.inertia[k] = inertia ? inertia[i][k] : 0.0;
-    b.origin[k] = shape[i][7 + k];
+    b.origin[k] = quat[i][4 + k];
   }
   for (int k = 0; k < 4; k++) {
     b.quat[k] = quat[i][k];
-    b.to_body[k] = shape[i][10 + k];
+    b.to_body[k] = inertia ? inertia[i][3 + k] : (k == 0 ? 1.0 : 0.0);
   }
   for (int k = 0; k < 6; k++) b.semi[k] = shape[i][1 + k];
   b.mass = atom->rmass[i];
@@ -80,11 +81,11 @@ inline void fractum_store_body(Atom *atom, double **shape, double **quat, double
     atom->v[i][k] = b.vel[k];
     atom->omega[i][k] = b.omega[k];
     inertia[i][k] = b.inertia[k];
-    shape[i][7 + k] = b.origin[k];
+    quat[i][4 + k] = b.origin[k];
   }
   for (int k = 0; k < 4; k++) {
     quat[i][k] = b.quat[k];
-    shape[i][10 + k] = b.to_body[k];
+    inertia[i][3 + k] = b.to_body[k];
   }
   for (int k = 0; k < 6; k++) shape[i][1 + k] = b.semi[k];
   shape[i][0] = b.sphere ? 1.0 : 0.0;

@@ -20,8 +20,8 @@ using namespace LAMMPS_NS;
 
 static const char *STYLE = "pair fractum/granular";
 static const char *ARRAYS_HINT =
-    "declare `fix ID all property/atom d2_fr_shape 14 d2_fr_quat 4 d2_fr_inertia 3 d2_fr_grain 4 "
-    "ghost yes` before read_data (fractum export lammps --plugin writes it)";
+    "declare the fix property/atom arrays d2_fr_shape 7, d2_fr_orient 7, d2_fr_inertia 7 "
+    "and d2_fr_grain 4 (ghost yes) before read_data (fractum export lammps --plugin writes them)";
 
 PairFractumGranular::PairFractumGranular(LAMMPS *lmp) : Pair(lmp)
 {
@@ -123,7 +123,7 @@ void PairFractumGranular::init_style()
   shapes = shape_arr ? 1 : 0;
   if (shapes) {
     shape_arr = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, ARRAYS_HINT);
-    quat_arr = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, ARRAYS_HINT);
+    quat_arr = fractum_array(lmp, STYLE, "fr_orient", QUAT_COLS, ARRAYS_HINT);
     inertia_arr = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, ARRAYS_HINT);
     grain_arr = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, ARRAYS_HINT);
   }
@@ -201,7 +201,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
 
   if (shapes) {
     shape_arr = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, ARRAYS_HINT);
-    quat_arr = fractum_array(lmp, STYLE, "fr_quat", QUAT_COLS, ARRAYS_HINT);
+    quat_arr = fractum_array(lmp, STYLE, "fr_orient", QUAT_COLS, ARRAYS_HINT);
     inertia_arr = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, ARRAYS_HINT);
     grain_arr = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, ARRAYS_HINT);
   }

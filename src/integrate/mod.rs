@@ -1,7 +1,7 @@
 //! Time integration and the critical time step.
 
 mod tchamwa_wielgosz;
-mod velocity_verlet;
+pub mod velocity_verlet;
 // beam2d: Gear's predictor-corrector and velocity Verlet on flat arrays of degrees of freedom.
 pub mod gear5;
 

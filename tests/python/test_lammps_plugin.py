@@ -122,7 +122,7 @@ def test_frictionless_spheres_equal_pair_granular(tmp_path):
     builtin = head.replace("pair_style      fractum/granular", "pair_style      granular")
     builtin = "\n".join(
         l if not l.startswith("pair_coeff") else
-        f"pair_coeff * * hertz/material {young} 1.0 0.17 tangential linear_nohistory 0.0 0.0 damping none"
+        f"pair_coeff * * hertz/material {young} 0.0 0.17 tangential linear_nohistory 0.0 0.0 damping velocity"
         for l in builtin.splitlines()) + "\n"
     with open(os.path.join(folder, "in.fractum"), "w") as f:
         f.write(builtin)

@@ -599,10 +599,10 @@ fn plugin_face(normal: &Vec3, point: &Vec3) -> Option<(usize, f64)> {
 }
 
 /// The plugin's data file: `atom_style sphere` atoms (IDs from 1 in Fractum's order, the
-/// bounding diameter, the density that gives each body its mass) and the `FractumBodies`
-/// section that `fix frbody` (property/atom) reads: per atom the shape (sphere flag, semi-axes,
-/// octant origin and shape-to-body turn), the orientation, the principal inertia and the grain
-/// state (Weibull factor, sample grain, splits, intact springs). Every number is written at
+/// bounding diameter, the density that gives each body its mass) and the sections the
+/// plugin's `fix property/atom` arrays read (docs/lammps.md): the shape (sphere flag,
+/// semi-axes), the orientation with the octant origin, the principal inertia with the
+/// shape-to-body turn, and the grain state (Weibull factor, sample grain, splits, springs). Every number is written at
 /// full precision (shortest round trip).
 pub fn plugin_data(sim: &Simulation, title: &str) -> String {
     let st = &sim.model.state;
@@ -644,8 +644,15 @@ pub fn plugin_data(sim: &Simulation, title: &str) -> String {
             w.z
         );
     }
-    s.push_str("\nFractumBodies\n\n");
     let fracture = st.fracture.as_ref();
+    // One section per array: read_data reads a section's lines into 256-character buffers,
+    // which seven numbers at full precision fit.
+    let mut sections: [(&str, String); 4] = [
+        ("FractumShape", String::new()),
+        ("FractumOrient", String::new()),
+        ("FractumInertia", String::new()),
+        ("FractumGrain", String::new()),
+    ];
     for i in 0..bodies.len() {
         let q = bodies.orientation[i];
         let (sphere, semi, origin, to_body) = match &bodies.shape[i] {
@@ -653,20 +660,15 @@ pub fn plugin_data(sim: &Simulation, title: &str) -> String {
                 pe,
                 origin,
                 to_body,
-            } => (0, pe.semi, *origin, *to_body),
+            } => (0.0, pe.semi, *origin, *to_body),
             _ => (
-                1,
+                1.0,
                 [bodies.radius[i]; 6],
                 Vec3::zeros(),
                 nalgebra::UnitQuaternion::identity(),
             ),
         };
-        let mut row = vec![sphere as f64];
-        row.extend_from_slice(&semi);
-        row.extend_from_slice(origin.as_slice());
-        row.extend_from_slice(&[to_body.w, to_body.i, to_body.j, to_body.k]);
-        row.extend_from_slice(&[q.w, q.i, q.j, q.k]);
-        row.extend_from_slice(bodies.inertia[i].as_slice());
+        let inertia = bodies.inertia[i];
         let (strength, grain, generation, bonds) = match fracture {
             Some(f) => (
                 f.strength[i],
@@ -676,12 +678,24 @@ pub fn plugin_data(sim: &Simulation, title: &str) -> String {
             ),
             None => (1.0, i as f64 + 1.0, 0.0, 0.0),
         };
-        row.extend_from_slice(&[strength, grain, generation, bonds]);
-        let _ = write!(s, "{}", i + 1);
-        for v in row {
-            let _ = write!(s, " {v:e}");
+        let rows: [Vec<f64>; 4] = [
+            std::iter::once(sphere).chain(semi).collect(),
+            vec![q.w, q.i, q.j, q.k, origin.x, origin.y, origin.z],
+            vec![
+                inertia.x, inertia.y, inertia.z, to_body.w, to_body.i, to_body.j, to_body.k,
+            ],
+            vec![strength, grain, generation, bonds],
+        ];
+        for ((_, text), row) in sections.iter_mut().zip(rows) {
+            let _ = write!(text, "{}", i + 1);
+            for v in row {
+                let _ = write!(text, " {v:e}");
+            }
+            text.push('\n');
         }
-        s.push('\n');
+    }
+    for (name, text) in &sections {
+        let _ = write!(s, "\n{name}\n\n{text}");
     }
     s
 }
@@ -752,11 +766,15 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         "variable        plugin index {plugin}\nplugin          load ${{plugin}}\n\
          units           si\natom_style      sphere\natom_modify     map array\ndimension       3\n\
          boundary        {boundary}\nnewton          off\ncomm_modify     vel yes\n\
-         # Fractum's per-atom data: shape, orientation, inertia, grain (read from the data file);\n\
-         # cohesive springs (21 numbers per spring) and the faces' contact histories (7 per face)\n\
-         fix             frbody all property/atom d2_fr_shape 14 d2_fr_quat 4 d2_fr_inertia 3 d2_fr_grain 4 ghost yes\n\
+         # Fractum's per-atom data (docs/lammps.md): shape, orientation, inertia and grain state\n\
+         # from the data file; cohesive springs (21 numbers each) and the faces' contact histories\n\
+         fix             frshape all property/atom d2_fr_shape 7 ghost yes\n\
+         fix             frorient all property/atom d2_fr_orient 7 ghost yes\n\
+         fix             frinertia all property/atom d2_fr_inertia 7 ghost yes\n\
+         fix             frgrain all property/atom d2_fr_grain 4 ghost yes\n\
          fix             frstate all property/atom d2_fr_springs {} d2_fr_walls 42\n\
-         read_data       {data_file} fix frbody NULL FractumBodies\n",
+         read_data       {data_file} fix frshape NULL FractumShape fix frorient NULL FractumOrient &\n\
+         \x20               fix frinertia NULL FractumInertia fix frgrain NULL FractumGrain\n",
         21 * plan.cfg.fracture.springs.max(1)
     );
     let mut coeff = format!("young {:e} poisson {:e}", m.young, m.poisson());
