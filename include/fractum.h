@@ -33,6 +33,200 @@ typedef enum FractumStatus {
 // An opaque simulation handle (0 is never a valid handle).
 typedef uint64_t FractumHandle;
 
+// The folded constants of the Hertz-Mindlin kernel and which sub-models are on, as
+// `fractum_kernel_contact_law` makes them.
+typedef struct FractumContactLaw {
+  // 4/3 E* (Pa), E* = E / (2 (1 - nu^2)).
+  double four_thirds_e;
+  // 2 E* (Pa).
+  double two_e;
+  // The damping coefficient c (dimensionless; 0 without damping).
+  double damping;
+  // 8 G* (Pa), G* = G / (2 (2 - nu)); 0 without friction.
+  double eight_g;
+  // Coulomb friction coefficient (dimensionless; 0 without friction).
+  double mu;
+  // Nonzero: the damping effect is on.
+  int32_t damp;
+  // Nonzero: the friction effect is on.
+  int32_t friction;
+} FractumContactLaw;
+
+// One contact's force and what a record keeps (force on A; B, or the wall, gets the
+// opposite).
+typedef struct FractumContact {
+  // Force on A (N).
+  double force[3];
+  // Torque on A about its centre of mass (N m).
+  double torque_a[3];
+  // Torque on B about its centre of mass (N m); 0 against a wall.
+  double torque_b[3];
+  // Contact point (m).
+  double point[3];
+  // Unit normal from B (or the wall) to A.
+  double normal[3];
+  // Normal force (N).
+  double normal_force;
+  // Hertz contact radius a (m).
+  double radius;
+  // Normal contact stiffness 2 E* a (N/m).
+  double stiffness;
+  // Elastic energy stored in the contact (J).
+  double energy;
+  // Energy damping and sliding dissipated in this step (J).
+  double dissipated;
+  // 1: in contact; 0: no contact, every other field 0.
+  int32_t touching;
+} FractumContact;
+
+// A grain as the kernels see it (SI, world frame).
+typedef struct FractumBody {
+  // Centre of mass (m).
+  double pos[3];
+  // Velocity (m/s).
+  double vel[3];
+  // Angular velocity (rad/s).
+  double omega[3];
+  // Orientation: body (principal) frame to world, w x y z.
+  double quat[4];
+  // Mass (kg).
+  double mass;
+  // Bounding radius (m); a sphere's radius.
+  double radius;
+  // Semi-axes a+ a- b+ b- c+ c- (m); a sphere: all = radius (not read).
+  double semi[6];
+  // Octant origin in the body frame (m); a sphere: 0.
+  double origin[3];
+  // Shape frame to body frame, w x y z; a sphere: 1 0 0 0.
+  double to_body[4];
+  // Principal moments of inertia (kg m^2).
+  double inertia[3];
+  // 1: a sphere, 0: a poly-ellipsoid (any nonzero value: a sphere).
+  int32_t sphere;
+} FractumBody;
+
+// Geometry of one contact.
+typedef struct FractumGeometry {
+  // Unit normal from B (or the wall) to A.
+  double normal[3];
+  // Overlap (m), > 0.
+  double depth;
+  // Contact point (m), midway between the two deepest points.
+  double point[3];
+  // Deepest point of A into B (m).
+  double point_a[3];
+  // Deepest point of B into A (m); for a wall, the foot of point_a on the plane.
+  double point_b[3];
+  // Hertz equivalent radius (m).
+  double r_eff;
+  // 1: touching; 0: separated (every other field 0).
+  int32_t touching;
+} FractumGeometry;
+
+// What a pair slot (or a wall candidate) remembers between evaluations: the tangential
+// displacement (m), the last contact normal (warm start; 0 0 0 when none) and the held
+// Hertz radius (m; 0 while not touching). 7 doubles: LAMMPS's per-contact history layout.
+// Start a new pair with all zeros.
+typedef struct FractumPairMemory {
+  // Tangential displacement (m).
+  double hist[3];
+  // Last contact normal (unit, from B to A), 0 0 0 before the first contact.
+  double normal[3];
+  // Held Hertz radius (m), 0 while not touching.
+  double radius;
+} FractumPairMemory;
+
+// Grain fracture constants (FractureParams, resolved).
+typedef struct FractumFractureLaw {
+  // Hoek-Brown m_i (dimensionless).
+  double mi;
+  // Uniaxial compressive strength sigma_c (Pa).
+  double sigma_c;
+  // Contact tensile strength sigma_fM (Pa).
+  double sigma_f;
+  // Poisson's ratio of the grains (dimensionless).
+  double poisson;
+  // Critical contacts that break a grain (>= 0).
+  int32_t critical_contacts;
+  // Nonzero: a sphere first turns its principal directions to the ideal break plane.
+  int32_t ideal_plane;
+  // Nonzero: a sphere's break plane takes the random slight rotation.
+  int32_t plane_jitter;
+  // Springs per break plane, 0 without cohesion (0 to 16).
+  int32_t springs;
+  // Cohesive energy G_c (J/m^2), 0 without cohesion.
+  double gc;
+} FractumFractureLaw;
+
+// Why a grain breaks. kind 0: it does not; 1: Hoek-Brown on its average stress (`stress`,
+// Pa, tension positive, row-major); 2: critical contacts (`normal`: the unit normal of the
+// plane through them). value: the stress that broke it (Pa; the largest principal
+// compression, or the largest contact tensile stress).
+typedef struct FractumTrigger {
+  // 0 none, 1 Hoek-Brown, 2 contacts.
+  int32_t kind;
+  // Average stress (Pa, tension positive, row-major); kind 1 only.
+  double stress[9];
+  // Unit normal of the critical contacts' plane; kind 2 only.
+  double normal[3];
+  // The stress that broke the grain (Pa).
+  double value;
+} FractumTrigger;
+
+// A split made, waiting for the halves' forces to set its springs (world frame).
+typedef struct FractumPending {
+  // The parent's centre of mass (m).
+  double centroid[3];
+  // The parent's acceleration (m/s^2).
+  double accel[3];
+  // The parent's angular acceleration (rad/s^2).
+  double alpha[3];
+  // The parent's angular velocity (rad/s).
+  double omega[3];
+  // The spring points (m); the first `count` are used.
+  double points[16][3];
+  // Spring points (0 without cohesion; at most 16).
+  int32_t count;
+  // Area each spring stands for (m^2).
+  double area;
+} FractumPending;
+
+// A split: the axis of the parent's shape frame it splits normal to (-1: the shape forbids
+// breaking, nothing else set), the + half (which the parent becomes), the - half (a new
+// body) and the pending bond.
+typedef struct FractumSplit {
+  // 0, 1 or 2 (x, y, z of the parent's shape frame); -1: no split.
+  int32_t axis;
+  // The + half: the parent becomes it.
+  struct FractumBody plus;
+  // The - half: a new body.
+  struct FractumBody minus;
+  // What `fractum_kernel_bond` needs once the halves' forces are known.
+  struct FractumPending pending;
+} FractumSplit;
+
+// One cohesive spring between bodies A and B.
+typedef struct FractumSpring {
+  // The spring's end on A, in A's body frame (m).
+  double on_a[3];
+  // The spring's end on B, in B's body frame (m).
+  double on_b[3];
+  // Unit direction of the force on A, in A's body frame.
+  double direction[3];
+  // Initial force f_i (N).
+  double f0;
+  // Softening stiffness k (N/m).
+  double k;
+  // Largest elongation reached (m).
+  double opening;
+  // The ends' separation (A's end minus B's, world; m) at the last evaluation.
+  double last_gap[3];
+  // The force on A at the last evaluation (N, world).
+  double last_force[3];
+  // 1: broken for good.
+  int32_t broken;
+} FractumSpring;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -177,6 +371,255 @@ const char *fractum_version(void);
 // The message of the last failed call on this thread ("" after a success). Valid until the
 // next call on this thread.
 const char *fractum_last_error(void);
+
+// The contact law of grains of Young's modulus `young` (Pa) and Poisson's ratio `poisson`,
+// with viscous damping for the restitution coefficient `restitution` (in (0, 1]; read only
+// when `damping` is nonzero) and Mindlin friction of coefficient `mu` (read only when
+// `friction` is nonzero), as Fractum's `contact`, `damping` and `friction` effects fold it.
+// Against walls of another friction coefficient, make a second law with that `mu`.
+// Finding the damping coefficient integrates collisions: a few tens of milliseconds; make
+// the law once.
+enum FractumStatus fractum_kernel_contact_law(double young,
+                                              double poisson,
+                                              double restitution,
+                                              double mu,
+                                              int32_t damping,
+                                              int32_t friction,
+                                              struct FractumContactLaw *out);
+
+// The Hertz-Mindlin force on A for the overlap `delta` (m, > 0) along the unit normal `n`
+// (3 doubles, from B to A), Hertz radius `r_eff` (m), effective mass `m_eff` (kg; read with
+// damping), velocity `v` (3 doubles, m/s) of A's contact point relative to B's, and the
+// tangential displacement `hist` (3 doubles, m; read and updated with friction) over the
+// step `dt` (s); `update` = 0 only for a force evaluation that must not advance `hist`.
+// Fills force, normal_force, radius, stiffness, energy, dissipated and touching = 1 of
+// `*out` (the rest 0).
+enum FractumStatus fractum_kernel_hertz_mindlin(const struct FractumContactLaw *law,
+                                                const double *n,
+                                                double delta,
+                                                double r_eff,
+                                                double m_eff,
+                                                const double *v,
+                                                double *hist,
+                                                double dt,
+                                                int32_t update,
+                                                struct FractumContact *out);
+
+// The contact geometry of bodies `a` and `b` placed as Fractum places them (a sphere by its
+// radius about its centre), the search started from `guess` (3 doubles: a direction from B
+// to A of any length, e.g. the last normal or a's centre minus b's; 0 0 0: centroid to
+// centroid). `out->touching` = 0 when they are separated.
+enum FractumStatus fractum_kernel_convex_contact(const struct FractumBody *a,
+                                                 const struct FractumBody *b,
+                                                 const double *guess,
+                                                 struct FractumGeometry *out);
+
+// The contact geometry of body `a` with the wall through `wall_point` (3 doubles, m) of unit
+// normal `wall_normal` (3 doubles, pointing out of the wall into the free side).
+// `out->touching` = 0 when `a` is clear of it.
+enum FractumStatus fractum_kernel_wall_geometry(const struct FractumBody *a,
+                                                const double *wall_normal,
+                                                const double *wall_point,
+                                                struct FractumGeometry *out);
+
+// The whole contact of the pair (a, b) as Fractum's contact effect computes it: the
+// bounding-sphere rejection; for two spheres (or with `shapes` = 0) the sphere formula, else
+// the convex contact warm-started from `memory->normal` with the Hertz radius held in
+// `memory->radius`; Hertz-Mindlin with the tangential displacement `memory->hist` (m) over
+// the step `dt` (s; `update` = 0 only for a force evaluation that must not advance it);
+// the torques, point and normal. The effective mass is m_a m_b / (m_a + m_b). `shapes` is
+// Fractum's poly-ellipsoid variant, nonzero when any grain of the run may be a
+// poly-ellipsoid: then a pair that is not two spheres takes the convex contact (two spheres
+// take the sphere formula either way).
+// `out->touching` = 0 when they do not touch (memory updated as Fractum does: hist and
+// radius reset).
+enum FractumStatus fractum_kernel_pair(const struct FractumContactLaw *law,
+                                       const struct FractumBody *a,
+                                       const struct FractumBody *b,
+                                       struct FractumPairMemory *memory,
+                                       double dt,
+                                       int32_t update,
+                                       int32_t shapes,
+                                       struct FractumContact *out);
+
+// The contact of body `a` with the wall through `wall_point` (3 doubles, m) of unit normal
+// `wall_normal` (3 doubles, into the bodies' side) moving at `wall_velocity` (3 doubles,
+// m/s), as Fractum's contact effect computes it (with `shapes` nonzero a poly-ellipsoid's
+// wall contact, else the sphere's), with the candidate's tangential displacement
+// `memory->hist` (m) and held Hertz radius `memory->radius` (m; `memory->normal` is not
+// used) over the step `dt` (s). The wall gets the opposite force; `out->torque_b` is 0.
+enum FractumStatus fractum_kernel_wall(const struct FractumContactLaw *law,
+                                       const struct FractumBody *a,
+                                       const double *wall_normal,
+                                       const double *wall_point,
+                                       const double *wall_velocity,
+                                       struct FractumPairMemory *memory,
+                                       double dt,
+                                       int32_t update,
+                                       int32_t shapes,
+                                       struct FractumContact *out);
+
+// A poly-ellipsoid of semi-axes `semi` (6 doubles, a+ a- b+ b- c+ c-, m; finite and > 0,
+// else FRACTUM_ERR_INPUT) and mass `mass` (kg) at rest, its centroid at `centroid` (3
+// doubles, m) and its shape frame turned by `shape_quat` (4 doubles, shape to world, w x y z),
+// as Fractum adds one: its body frame is its principal frame of inertia.
+enum FractumStatus fractum_kernel_poly_ellipsoid_body(const double *semi,
+                                                      double mass,
+                                                      const double *centroid,
+                                                      const double *shape_quat,
+                                                      struct FractumBody *out);
+
+// The volume (m^3) of body `b`.
+enum FractumStatus fractum_kernel_body_volume(const struct FractumBody *b, double *volume);
+
+// The average stress of grain `b` (9 doubles out, Pa, tension positive, row-major; Eq.
+// 8-13) from the moment of its contact forces `moment` (9 doubles, row-major, N m: the sum
+// of force (x) (point - centre) over its contacts, force on b) and the torque `torque` on it
+// (3 doubles, N m), with the inertial terms of its angular acceleration and velocity.
+enum FractumStatus fractum_kernel_average_stress(const struct FractumBody *b,
+                                                 const double *moment,
+                                                 const double *torque,
+                                                 double *stress);
+
+// The principal compressions of a stress (9 doubles, row-major, Pa, tension positive): 3
+// doubles out (Pa, compression positive, s1 >= s2 >= s3; of the symmetric part).
+enum FractumStatus fractum_kernel_principal_compressions(const double *stress, double *out);
+
+// `*fails` = 1 when Hoek-Brown fails at the principal compressions `s1` >= `s3` (Pa,
+// compression positive) for the strength `sigma_c` (Pa) and `mi`, else 0.
+enum FractumStatus fractum_kernel_hoek_brown_fails(double s1,
+                                                   double s3,
+                                                   double sigma_c,
+                                                   double mi,
+                                                   int32_t *fails);
+
+// The largest tensile stress (Pa) of a Hertz contact of normal force `normal_force` (N) and
+// contact radius `contact_radius` (m) for Poisson's ratio `poisson` (Eq. 17).
+enum FractumStatus fractum_kernel_contact_tensile_stress(double normal_force,
+                                                         double contact_radius,
+                                                         double poisson,
+                                                         double *stress);
+
+// The Weibull strength factor (dimensionless; Eq. 18) for the uniform variate `p` in (0, 1),
+// the Weibull modulus `w`, the grain's equivalent radius `x` (m) and the reference radius
+// `x_m` (m).
+enum FractumStatus fractum_kernel_weibull_factor(double p,
+                                                 double w,
+                                                 double x,
+                                                 double x_m,
+                                                 double *factor);
+
+// The unit normal (3 doubles out) of the plane through the `n` points (m; the
+// least-squares plane for more than 3); `*found` = 0 (normal 0 0 0) for fewer than 3 or
+// collinear points.
+enum FractumStatus fractum_kernel_contacts_plane_normal(const double (*points)[3],
+                                                        size_t n,
+                                                        double *normal,
+                                                        int32_t *found);
+
+// Whether free grain `b` breaks, as Fractum checks it after a step: Hoek-Brown on its
+// average stress (of the contact moment `moment`, 9 doubles row-major, N m, and the torque
+// `torque`, 3 doubles, N m; see fractum_kernel_average_stress) with sigma_c times its
+// Weibull factor `strength` (1 without Weibull statistics); else, when `n_critical` >=
+// `law->critical_contacts`, the critical contacts (those with a contact tensile stress above
+// `law->sigma_f * strength`) with `critical_points` their first min(n_critical, 3) points
+// (m, largest stress first; may be null when n_critical is 0) spanning a plane and
+// `top_stress` (Pa) the largest of their stresses. The caller sums the moment over a grain's
+// contacts (force on it (x) (point - centre)) and collects its critical contacts; Fractum
+// checks only grains with a nonzero moment that no spring holds. `out->kind` = 0: no break.
+enum FractumStatus fractum_kernel_check(const struct FractumFractureLaw *law,
+                                        const struct FractumBody *b,
+                                        double strength,
+                                        const double *moment,
+                                        const double *torque,
+                                        size_t n_critical,
+                                        const double (*critical_points)[3],
+                                        double top_stress,
+                                        struct FractumTrigger *out);
+
+// Splits grain `parent`, which carries the force `force` (3 doubles, N) and torque `torque`
+// (3 doubles, N m), for the reason `trigger` (kind 1 or 2, from fractum_kernel_check), as
+// Fractum splits it: the break plane (a sphere first turns to the ideal plane with
+// `law->ideal_plane`, and with `law->plane_jitter` by the slight rotation of the angles
+// `jitter`, 3 doubles in rad from fractum_kernel_jitter_angles; NULL: no rotation), the two
+// halves moving as the parent did, and the pending bond (the parent's acceleration force x
+// (1 / mass), angular acceleration, centroid and angular velocity, and with cohesion
+// (`law->springs` > 0) the spring points on the break plane and the area each stands for). `out->axis` = -1
+// when the grain's shape forbids breaking.
+enum FractumStatus fractum_kernel_split(const struct FractumFractureLaw *law,
+                                        const struct FractumBody *parent,
+                                        const double *force,
+                                        const double *torque,
+                                        const struct FractumTrigger *trigger,
+                                        const double *jitter,
+                                        struct FractumSplit *out);
+
+// The angles (3 doubles out, rad) of a sphere's random slight break-plane rotation from 6
+// uniform variates `u` in [0, 1]: per angle k the magnitude `theta_max (0.5 + 0.5 u[2k])`
+// (theta_max = atan(1/5)), positive when `u[2k+1] >= 0.5`, else negative. Fractum draws the
+// six from its fracture stream (per angle: a 53-bit uniform, then a 32-bit word / 2^32); a
+// host may take them from fractum_kernel_uniforms.
+enum FractumStatus fractum_kernel_jitter_angles(const double *u, double *angles);
+
+// `n` uniform variates in (0, 1] (53 bits each) into `out` from the ChaCha8 stream `key` of
+// `seed` (seeded as Fractum's scene streams), starting at word `counter` * 2^32: the same
+// (seed, key, counter) always gives the same numbers, on any rank. `counter` < 2^36 and
+// `n` <= 2^31, else FRACTUM_ERR_INPUT; `out` may be null when `n` is 0.
+enum FractumStatus fractum_kernel_uniforms(uint64_t seed,
+                                           uint64_t key,
+                                           uint64_t counter,
+                                           size_t n,
+                                           double *out);
+
+// The cohesive springs of one split (Eq. 39-43), as Fractum makes them once the halves'
+// forces are known: `a` is the + half (the parent's body), `b` the - half, `force_a`,
+// `torque_a`, `force_b`, `torque_b` (3 doubles each, N and N m) the forces and torques on
+// them after the split, `pending` the split's pending bond. Their initial forces make each
+// half accelerate and turn as the parent did; a spring with no force is not made. Writes
+// the `*made` springs to `springs` (room for 16; the rest zeroed); none without cohesion
+// (`law->springs` = 0). Springs come in the order of `pending->points`, skipping any that
+// would carry no force (|f| <= 1e-12 (|demand on a| + |demand on b|)): when `*made` equals
+// `pending->count`, spring k sits at `pending->points[k]`. The caller applies each spring's
+// initial force at once, as Fractum does: `last_force` on a at the spring's point (torque
+// (point - a's centre) x force) and its opposite on b (torque -(point - b's centre) x
+// force); Fractum takes the point as `pending->points[k] - a's centre` (then + a's centre
+// for b's lever), a's centre + q_a on_a agrees with it to round-off.
+enum FractumStatus fractum_kernel_bond(const struct FractumFractureLaw *law,
+                                       const struct FractumBody *a,
+                                       const struct FractumBody *b,
+                                       const double *force_a,
+                                       const double *torque_a,
+                                       const double *force_b,
+                                       const double *torque_b,
+                                       const struct FractumPending *pending,
+                                       struct FractumSpring *springs,
+                                       int32_t *made);
+
+// The initial spring forces (`n` x 3 doubles out, N, on A; B gets the opposite) that meet
+// a split's demand with the least squares, for springs at `points` (`n` x 3 doubles, m,
+// relative to A's centre of mass): `demand` is 15 doubles, force_a torque_a force_b
+// torque_b b_offset (N, N m, N, N m, m; what A needs from B, what B needs from A about its
+// own centre, and B's centre relative to A's).
+enum FractumStatus fractum_kernel_spring_initial_forces(const double (*points)[3],
+                                                        size_t n,
+                                                        const double *demand,
+                                                        double (*forces)[3]);
+
+// One evaluation of spring `s` between bodies `a` and `b` (of which it uses the positions and
+// orientations), as Fractum evaluates it each step: its largest elongation, its
+// force on a (`force_a`, 3 doubles, N; b gets the opposite), the torques on a and b about
+// their centres (`torque_a`, `torque_b`, 3 doubles each, N m), and the work it did on the
+// pair since the last evaluation (`*work`, J). When its force has fallen to zero the spring
+// breaks for good: `s->broken` = 1, `*broke` = 1, forces and torques 0. A spring already
+// broken does nothing (all 0, `*broke` = 0).
+enum FractumStatus fractum_kernel_spring(struct FractumSpring *s,
+                                         const struct FractumBody *a,
+                                         const struct FractumBody *b,
+                                         double *force_a,
+                                         double *torque_a,
+                                         double *torque_b,
+                                         double *work,
+                                         int32_t *broke);
 
 #ifdef __cplusplus
 }  // extern "C"
