@@ -428,8 +428,9 @@ enum FractumStatus fractum_kernel_wall_geometry(const struct FractumBody *a,
 // `memory->radius`; Hertz-Mindlin with the tangential displacement `memory->hist` (m) over
 // the step `dt` (s; `update` = 0 only for a force evaluation that must not advance it);
 // the torques, point and normal. The effective mass is m_a m_b / (m_a + m_b). `shapes` is
-// Fractum's poly-ellipsoid variant: nonzero when any grain of the run may be a
-// poly-ellipsoid (it also turns on the torques of spheres' normal forces at the point).
+// Fractum's poly-ellipsoid variant, nonzero when any grain of the run may be a
+// poly-ellipsoid: then a pair that is not two spheres takes the convex contact (two spheres
+// take the sphere formula either way).
 // `out->touching` = 0 when they do not touch (memory updated as Fractum does: hist and
 // radius reset).
 enum FractumStatus fractum_kernel_pair(const struct FractumContactLaw *law,
@@ -541,9 +542,9 @@ enum FractumStatus fractum_kernel_check(const struct FractumFractureLaw *law,
 // Fractum splits it: the break plane (a sphere first turns to the ideal plane with
 // `law->ideal_plane`, and with `law->plane_jitter` by the slight rotation of the angles
 // `jitter`, 3 doubles in rad from fractum_kernel_jitter_angles; NULL: no rotation), the two
-// halves moving as the parent did, and the pending bond (the parent's acceleration force /
-// mass, angular acceleration, centroid and angular velocity, and with `law->springs` > 0
-// the spring points on the break plane and the area each stands for). `out->axis` = -1
+// halves moving as the parent did, and the pending bond (the parent's acceleration force x
+// (1 / mass), angular acceleration, centroid and angular velocity, and with cohesion
+// (`law->springs` > 0) the spring points on the break plane and the area each stands for). `out->axis` = -1
 // when the grain's shape forbids breaking.
 enum FractumStatus fractum_kernel_split(const struct FractumFractureLaw *law,
                                         const struct FractumBody *parent,
@@ -554,8 +555,8 @@ enum FractumStatus fractum_kernel_split(const struct FractumFractureLaw *law,
                                         struct FractumSplit *out);
 
 // The angles (3 doubles out, rad) of a sphere's random slight break-plane rotation from 6
-// uniform variates `u` in [0, 1]: per angle k the magnitude theta_max (0.5 + 0.5 u[2k])
-// (theta_max = atan(1/5)), positive when u[2k+1] >= 0.5, else negative. Fractum draws the
+// uniform variates `u` in [0, 1]: per angle k the magnitude `theta_max (0.5 + 0.5 u[2k])`
+// (theta_max = atan(1/5)), positive when `u[2k+1] >= 0.5`, else negative. Fractum draws the
 // six from its fracture stream (per angle: a 53-bit uniform, then a 32-bit word / 2^32); a
 // host may take them from fractum_kernel_uniforms.
 enum FractumStatus fractum_kernel_jitter_angles(const double *u, double *angles);
@@ -604,8 +605,8 @@ enum FractumStatus fractum_kernel_spring_initial_forces(const double (*points)[3
                                                         const double *demand,
                                                         double (*forces)[3]);
 
-// One evaluation of spring `s` between bodies `a` and `b` (of which only the positions and
-// orientations are read), as Fractum evaluates it each step: its largest elongation, its
+// One evaluation of spring `s` between bodies `a` and `b` (of which it uses the positions and
+// orientations), as Fractum evaluates it each step: its largest elongation, its
 // force on a (`force_a`, 3 doubles, N; b gets the opposite), the torques on a and b about
 // their centres (`torque_a`, `torque_b`, 3 doubles each, N m), and the work it did on the
 // pair since the last evaluation (`*work`, J). When its force has fallen to zero the spring

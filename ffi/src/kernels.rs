@@ -4,11 +4,14 @@
 //! `fractum::fracture::split_grain`, ...), so a host gets the same bits Fractum computes.
 //!
 //! Every kernel returns a `FractumStatus`: `FRACTUM_ERR_NULL` on a null pointer,
-//! `FRACTUM_ERR_INPUT` on an argument the library cannot take (a semi-axis that is not finite
-//! and positive, a count out of range), `FRACTUM_ERR_INTERNAL` on a caught panic. They write
-//! their results through out pointers, keep no state, hand nothing to free, and leave the
-//! last-error message of the handle API alone (they are called per contact). Quaternions are
-//! `w x y z` and are taken as given (not renormalised); 3x3 matrices are row-major.
+//! `FRACTUM_ERR_INPUT` on an argument the library cannot take (a poly-ellipsoid's semi-axis
+//! that is not finite and positive, in any `FractumBody` passed; a count out of range),
+//! `FRACTUM_ERR_INTERNAL` on a caught panic. They write their results through out pointers,
+//! keep no state, hand nothing to free (split and bond use the library's temporary buffers
+//! inside the call), and leave the last-error message of the handle API alone (they are
+//! called per contact). Quaternions are `w x y z` and are taken as given (not
+//! renormalised); 3x3 matrices are row-major. A `FractumBody`'s inverse mass and moments
+//! are taken as 1/m, which is how Fractum's bodies hold them.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
@@ -301,6 +304,18 @@ fn points<'a>(p: *const [f64; 3], n: usize) -> Result<&'a [Vec3], FractumStatus>
     Ok(unsafe { std::slice::from_raw_parts(p.cast::<Vec3>(), n) })
 }
 
+/// The caller's `n` elements at `p` (null allowed when `n` is 0).
+fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], FractumStatus> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err(FRACTUM_ERR_NULL);
+    }
+    // SAFETY: the caller passes room for n elements, not aliased during the call.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
 fn quat(q: &[f64; 4]) -> UnitQuaternion<f64> {
     UnitQuaternion::new_unchecked(Quaternion::new(q[0], q[1], q[2], q[3]))
 }
@@ -570,8 +585,9 @@ pub extern "C" fn fractum_kernel_wall_geometry(
 /// `memory->radius`; Hertz-Mindlin with the tangential displacement `memory->hist` (m) over
 /// the step `dt` (s; `update` = 0 only for a force evaluation that must not advance it);
 /// the torques, point and normal. The effective mass is m_a m_b / (m_a + m_b). `shapes` is
-/// Fractum's poly-ellipsoid variant: nonzero when any grain of the run may be a
-/// poly-ellipsoid (it also turns on the torques of spheres' normal forces at the point).
+/// Fractum's poly-ellipsoid variant, nonzero when any grain of the run may be a
+/// poly-ellipsoid: then a pair that is not two spheres takes the convex contact (two spheres
+/// take the sphere formula either way).
 /// `out->touching` = 0 when they do not touch (memory updated as Fractum does: hist and
 /// radius reset).
 #[unsafe(no_mangle)]
@@ -915,9 +931,9 @@ fn pending_in(s: &FractumPending) -> Result<PendingSplit, FractumStatus> {
 /// Fractum splits it: the break plane (a sphere first turns to the ideal plane with
 /// `law->ideal_plane`, and with `law->plane_jitter` by the slight rotation of the angles
 /// `jitter`, 3 doubles in rad from fractum_kernel_jitter_angles; NULL: no rotation), the two
-/// halves moving as the parent did, and the pending bond (the parent's acceleration force /
-/// mass, angular acceleration, centroid and angular velocity, and with `law->springs` > 0
-/// the spring points on the break plane and the area each stands for). `out->axis` = -1
+/// halves moving as the parent did, and the pending bond (the parent's acceleration force x
+/// (1 / mass), angular acceleration, centroid and angular velocity, and with cohesion
+/// (`law->springs` > 0) the spring points on the break plane and the area each stands for). `out->axis` = -1
 /// when the grain's shape forbids breaking.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_split(
@@ -957,8 +973,8 @@ pub extern "C" fn fractum_kernel_split(
 }
 
 /// The angles (3 doubles out, rad) of a sphere's random slight break-plane rotation from 6
-/// uniform variates `u` in [0, 1]: per angle k the magnitude theta_max (0.5 + 0.5 u[2k])
-/// (theta_max = atan(1/5)), positive when u[2k+1] >= 0.5, else negative. Fractum draws the
+/// uniform variates `u` in [0, 1]: per angle k the magnitude `theta_max (0.5 + 0.5 u[2k])`
+/// (theta_max = atan(1/5)), positive when `u[2k+1] >= 0.5`, else negative. Fractum draws the
 /// six from its fracture stream (per angle: a 53-bit uniform, then a 32-bit word / 2^32); a
 /// host may take them from fractum_kernel_uniforms.
 #[unsafe(no_mangle)]
@@ -974,8 +990,6 @@ pub extern "C" fn fractum_kernel_jitter_angles(u: *const f64, angles: *mut f64) 
 /// `seed` (seeded as Fractum's scene streams), starting at word `counter` * 2^32: the same
 /// (seed, key, counter) always gives the same numbers, on any rank. `counter` < 2^36 and
 /// `n` <= 2^31, else FRACTUM_ERR_INPUT; `out` may be null when `n` is 0.
-// Checked for null and length before the raw slice is made.
-#[allow(clippy::not_unsafe_ptr_arg_deref)]
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_uniforms(
     seed: u64,
@@ -986,15 +1000,7 @@ pub extern "C" fn fractum_kernel_uniforms(
 ) -> FractumStatus {
     kernel(|| {
         input_if(counter >= UNIFORM_COUNTERS || n > UNIFORMS_PER_COUNTER)?;
-        if n == 0 {
-            return Ok(());
-        }
-        if out.is_null() {
-            return Err(FRACTUM_ERR_NULL);
-        }
-        // SAFETY: the caller passes room for n doubles.
-        let out = unsafe { std::slice::from_raw_parts_mut(out, n) };
-        uniforms(seed, key, counter, out);
+        uniforms(seed, key, counter, slice_mut(out, n)?);
         Ok(())
     })
 }
@@ -1088,8 +1094,6 @@ pub extern "C" fn fractum_kernel_bond(
 /// relative to A's centre of mass): `demand` is 15 doubles, force_a torque_a force_b
 /// torque_b b_offset (N, N m, N, N m, m; what A needs from B, what B needs from A about its
 /// own centre, and B's centre relative to A's).
-// Checked for null and length before the raw slice is made.
-#[allow(clippy::not_unsafe_ptr_arg_deref)]
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_spring_initial_forces(
     points: *const [f64; 3],
@@ -1108,20 +1112,17 @@ pub extern "C" fn fractum_kernel_spring_initial_forces(
             torque_b: v(3),
             b_offset: v(4),
         };
-        if n > 0 && forces.is_null() {
-            return Err(FRACTUM_ERR_NULL);
-        }
+        let out = slice_mut(forces, n)?;
         let f = cohesion::initial_forces(pts, &demand);
-        for (k, x) in f.iter().enumerate() {
-            // SAFETY: the caller passes room for n points; f has n.
-            unsafe { *forces.add(k) = (*x).into() };
+        for (o, x) in out.iter_mut().zip(&f) {
+            *o = (*x).into();
         }
         Ok(())
     })
 }
 
-/// One evaluation of spring `s` between bodies `a` and `b` (of which only the positions and
-/// orientations are read), as Fractum evaluates it each step: its largest elongation, its
+/// One evaluation of spring `s` between bodies `a` and `b` (of which it uses the positions and
+/// orientations), as Fractum evaluates it each step: its largest elongation, its
 /// force on a (`force_a`, 3 doubles, N; b gets the opposite), the torques on a and b about
 /// their centres (`torque_a`, `torque_b`, 3 doubles each, N m), and the work it did on the
 /// pair since the last evaluation (`*work`, J). When its force has fallen to zero the spring
@@ -1241,4 +1242,1144 @@ pub extern "C" fn fractum_kernel_cohesive_energy(
         *get_mut(gc)? = cohesion::cohesive_energy(toughness, young, poisson);
         Ok(())
     })
+}
+
+#[cfg(test)]
+mod tests {
+    //! Every export against the library function it wraps, called directly on the run's own
+    //! data (Bodies, placements): the same bits.
+
+    use super::*;
+    use fractum::effects::contact::{BodyAt, Placement};
+    use fractum::fracture::MadeSpring;
+    use fractum::state::Bodies;
+    use std::ptr::{null, null_mut};
+
+    /// Seeded variates from the library's keyed stream.
+    struct Draw {
+        seed: u64,
+        counter: u64,
+    }
+
+    impl Draw {
+        fn new(seed: u64) -> Self {
+            Draw { seed, counter: 0 }
+        }
+        fn u(&mut self) -> f64 {
+            let mut x = [0.0];
+            uniforms(self.seed, 1, self.counter, &mut x);
+            self.counter += 1;
+            x[0]
+        }
+        fn range(&mut self, lo: f64, hi: f64) -> f64 {
+            lo + (hi - lo) * self.u()
+        }
+        fn vec(&mut self, s: f64) -> Vec3 {
+            Vec3::new(self.range(-s, s), self.range(-s, s), self.range(-s, s))
+        }
+        fn unit(&mut self) -> Vec3 {
+            loop {
+                let v = self.vec(1.0);
+                let n = v.norm();
+                if n > 0.1 && n <= 1.0 {
+                    return v / n;
+                }
+            }
+        }
+        fn quat(&mut self) -> UnitQuaternion<f64> {
+            UnitQuaternion::from_scaled_axis(self.vec(3.0))
+        }
+        fn flag(&mut self) -> bool {
+            self.u() < 0.5
+        }
+    }
+
+    /// A random grain in motion: a sphere, or a poly-ellipsoid of six different semi-axes
+    /// (so its principal frame is not its shape frame).
+    fn random_body(d: &mut Draw, sphere: bool) -> Body {
+        let at = d.vec(1e-3);
+        let mut b = if sphere {
+            let mut bodies = Bodies::default();
+            bodies.push_sphere(at, d.range(0.5e-3, 1e-3), 2650.0, d.quat());
+            bodies.body(0)
+        } else {
+            let semi = std::array::from_fn(|_| d.range(0.35e-3, 1e-3));
+            let pe = PolyEllipsoid::new(semi).unwrap();
+            Body::poly_ellipsoid(pe, 2650.0 * pe.volume(), at, d.quat())
+        };
+        b.vel = d.vec(2.0);
+        b.omega = d.vec(2000.0);
+        b
+    }
+
+    /// The C form of a library body, field by field.
+    fn fb(b: &Body) -> FractumBody {
+        let q = |q: &UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
+        let mut out = FractumBody {
+            pos: [b.pos.x, b.pos.y, b.pos.z],
+            vel: [b.vel.x, b.vel.y, b.vel.z],
+            omega: [b.omega.x, b.omega.y, b.omega.z],
+            quat: q(&b.orientation),
+            mass: b.mass,
+            radius: b.radius,
+            semi: [b.radius; 6],
+            origin: [0.0; 3],
+            to_body: [1.0, 0.0, 0.0, 0.0],
+            inertia: [b.inertia.x, b.inertia.y, b.inertia.z],
+            sphere: 1,
+        };
+        if let Shape::PolyEllipsoid {
+            pe,
+            origin,
+            to_body,
+        } = &b.shape
+        {
+            out.semi = pe.semi;
+            out.origin = [origin.x, origin.y, origin.z];
+            out.to_body = q(to_body);
+            out.sphere = 0;
+        }
+        out
+    }
+
+    fn bits(x: &[f64]) -> Vec<u64> {
+        x.iter().map(|v| v.to_bits()).collect()
+    }
+
+    fn vb(v: &Vec3) -> Vec<u64> {
+        bits(v.as_slice())
+    }
+
+    fn body_bits(b: &FractumBody) -> Vec<u64> {
+        let mut v = Vec::new();
+        for x in [&b.pos[..], &b.vel, &b.omega, &b.quat, &[b.mass, b.radius]] {
+            v.extend(bits(x));
+        }
+        for x in [&b.semi[..], &b.origin, &b.to_body, &b.inertia] {
+            v.extend(bits(x));
+        }
+        v.push(b.sphere as u64);
+        v
+    }
+
+    fn spring_bits(s: &FractumSpring) -> Vec<u64> {
+        let mut v = Vec::new();
+        for x in [&s.on_a[..], &s.on_b, &s.direction, &[s.f0, s.k, s.opening]] {
+            v.extend(bits(x));
+        }
+        v.extend(bits(&s.last_gap));
+        v.extend(bits(&s.last_force));
+        v.push(s.broken as u64);
+        v
+    }
+
+    fn same_contact(out: &FractumContact, p: &Option<PairOut>) {
+        match p {
+            None => assert_eq!(*out, FractumContact::default()),
+            Some(p) => {
+                assert_eq!(out.touching, 1);
+                assert_eq!(bits(&out.force), vb(&p.force));
+                assert_eq!(bits(&out.torque_a), vb(&p.torque_i));
+                assert_eq!(bits(&out.torque_b), vb(&p.torque_j));
+                assert_eq!(bits(&out.point), vb(&p.point));
+                assert_eq!(bits(&out.normal), vb(&p.normal));
+                let c = &p.c;
+                assert_eq!(
+                    bits(&[
+                        out.normal_force,
+                        out.radius,
+                        out.stiffness,
+                        out.energy,
+                        out.dissipated
+                    ]),
+                    bits(&[
+                        c.normal_force,
+                        c.radius,
+                        c.stiffness,
+                        c.energy,
+                        c.dissipated
+                    ])
+                );
+            }
+        }
+    }
+
+    fn same_geometry(out: &FractumGeometry, g: &Option<ContactGeometry>) {
+        match g {
+            None => assert_eq!(*out, FractumGeometry::default()),
+            Some(g) => {
+                assert_eq!(out.touching, 1);
+                assert_eq!(bits(&out.normal), vb(&g.normal));
+                assert_eq!(bits(&out.point), vb(&g.point));
+                assert_eq!(bits(&out.point_a), vb(&g.point_a));
+                assert_eq!(bits(&out.point_b), vb(&g.point_b));
+                assert_eq!(bits(&[out.depth, out.r_eff]), bits(&[g.depth, g.r_eff]));
+            }
+        }
+    }
+
+    const YOUNG: f64 = 60e9;
+    const POISSON: f64 = 0.17;
+
+    /// The export's law and the library's constants for the switches.
+    fn laws(damp: bool, fric: bool, mu: f64) -> (FractumContactLaw, KernelConsts) {
+        let mut law = FractumContactLaw::default();
+        let s = fractum_kernel_contact_law(
+            YOUNG,
+            POISSON,
+            0.6,
+            mu,
+            i32::from(damp),
+            i32::from(fric),
+            &mut law,
+        );
+        assert_eq!(s, FRACTUM_OK);
+        let k = KernelConsts::new(
+            &Hertz::new(YOUNG, POISSON),
+            damp.then(|| ViscousDamping::from_restitution(0.6)).as_ref(),
+            fric.then(|| Mindlin::new(YOUNG, POISSON, mu)).as_ref(),
+        );
+        (law, k)
+    }
+
+    const SWITCHES: [(bool, bool, bool); 8] = [
+        (false, false, false),
+        (true, false, false),
+        (false, true, false),
+        (true, true, false),
+        (false, false, true),
+        (true, false, true),
+        (false, true, true),
+        (true, true, true),
+    ];
+
+    /// The run's view of two bodies: in a Bodies, placed once per evaluation.
+    fn run_pair(a: &Body, b: &Body) -> (Bodies, Vec<Placement>) {
+        let mut bodies = Bodies::default();
+        bodies.push(*a);
+        bodies.push(*b);
+        let placements = (0..2)
+            .map(|i| Placement::of(&bodies.pos[i], &bodies.orientation[i], &bodies.shape[i]))
+            .collect();
+        (bodies, placements)
+    }
+
+    #[test]
+    fn contact_law_folds_the_library_constants() {
+        for (damp, fric) in [(false, false), (true, false), (false, true), (true, true)] {
+            let (law, k) = laws(damp, fric, 0.35);
+            assert_eq!(
+                bits(&[
+                    law.four_thirds_e,
+                    law.two_e,
+                    law.damping,
+                    law.eight_g,
+                    law.mu
+                ]),
+                bits(&[k.four_thirds_e, k.two_e, k.damping, k.eight_g, k.mu])
+            );
+            assert_eq!((law.damp, law.friction), (damp as i32, fric as i32));
+        }
+        let mut law = FractumContactLaw::default();
+        let s = fractum_kernel_contact_law(YOUNG, POISSON, 0.0, 0.3, 1, 0, &mut law);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let s = fractum_kernel_contact_law(YOUNG, POISSON, 0.5, 0.3, 0, 0, null_mut());
+        assert_eq!(s, FRACTUM_ERR_NULL);
+    }
+
+    #[test]
+    fn hertz_mindlin_gives_the_library_bits() {
+        let mut d = Draw::new(1);
+        for (damp, fric) in [(false, false), (true, false), (false, true), (true, true)] {
+            let (law, k) = laws(damp, fric, 0.3);
+            for _ in 0..50 {
+                let n = d.unit();
+                let (delta, r_eff, m_eff) = (
+                    d.range(1e-9, 1e-5),
+                    d.range(1e-4, 1e-3),
+                    d.range(1e-6, 1e-5),
+                );
+                let v = d.vec(2.0);
+                let h0 = d.vec(1e-6);
+                let (dt, update) = (d.range(1e-9, 1e-7), d.flag());
+                let mut h = h0;
+                let c = match (damp, fric) {
+                    (false, false) => hertz_mindlin::<false, false>(
+                        &k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update,
+                    ),
+                    (true, false) => hertz_mindlin::<true, false>(
+                        &k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update,
+                    ),
+                    (false, true) => hertz_mindlin::<false, true>(
+                        &k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update,
+                    ),
+                    (true, true) => hertz_mindlin::<true, true>(
+                        &k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update,
+                    ),
+                };
+                let mut hist: [f64; 3] = h0.into();
+                let mut out = FractumContact::default();
+                let s = fractum_kernel_hertz_mindlin(
+                    &law,
+                    n.as_ptr(),
+                    delta,
+                    r_eff,
+                    m_eff,
+                    v.as_ptr(),
+                    hist.as_mut_ptr(),
+                    dt,
+                    i32::from(update),
+                    &mut out,
+                );
+                assert_eq!(s, FRACTUM_OK);
+                assert_eq!(bits(&hist), vb(&h));
+                assert_eq!(bits(&out.force), vb(&c.force));
+                assert_eq!(
+                    bits(&[
+                        out.normal_force,
+                        out.radius,
+                        out.stiffness,
+                        out.energy,
+                        out.dissipated
+                    ]),
+                    bits(&[
+                        c.normal_force,
+                        c.radius,
+                        c.stiffness,
+                        c.elastic_energy,
+                        c.dissipated
+                    ])
+                );
+                assert_eq!(out.touching, 1);
+            }
+        }
+    }
+
+    /// Pairs of spheres and poly-ellipsoids at separations scaled from touching bounding
+    /// spheres, each evaluated over a few steps as it moves (warm start, held radius,
+    /// tangential history), in every variant: the export's contact and memory are the
+    /// library's, bit for bit.
+    #[test]
+    fn pair_gives_the_library_bits() {
+        let mut d = Draw::new(2);
+        let mut touching = [0usize; 2];
+        for &(damp, fric, poly) in &SWITCHES {
+            let (law, k) = laws(damp, fric, 0.4);
+            for case in 0..40 {
+                let (sa, sb) = match case % 4 {
+                    0 => (true, true),
+                    1 => (true, false),
+                    2 => (false, true),
+                    _ => (false, false),
+                };
+                let mut a = random_body(&mut d, sa);
+                let mut b = random_body(&mut d, sb);
+                let u = d.unit();
+                b.pos = a.pos - u * (d.range(0.4, 1.02) * (a.radius + b.radius));
+                let dt = 2e-8;
+                let (mut hist, mut memory) = (Vec3::zeros(), PairMemory::default());
+                let mut mem = FractumPairMemory::default();
+                for step in 0..4 {
+                    let update = step > 0;
+                    let (bodies, placements) = run_pair(&a, &b);
+                    let at = |i| BodyAt {
+                        bodies: &bodies,
+                        placements: &placements,
+                        i,
+                    };
+                    let p = variants!(
+                        damp,
+                        fric,
+                        poly,
+                        pair_contact(&k, &at(0), &at(1), &mut hist, &mut memory, dt, update)
+                    );
+                    let mut out = FractumContact::default();
+                    let s = fractum_kernel_pair(
+                        &law,
+                        &fb(&a),
+                        &fb(&b),
+                        &mut mem,
+                        dt,
+                        i32::from(update),
+                        i32::from(poly),
+                        &mut out,
+                    );
+                    assert_eq!(s, FRACTUM_OK);
+                    same_contact(&out, &p);
+                    assert_eq!(bits(&mem.hist), vb(&hist));
+                    assert_eq!(bits(&mem.normal), vb(&memory.normal));
+                    assert_eq!(mem.radius.to_bits(), memory.radius.to_bits());
+                    touching[usize::from(sa && sb)] += usize::from(p.is_some());
+                    a.pos += a.vel * 1e-5;
+                    b.pos += b.vel * 1e-5;
+                    a.orientation =
+                        UnitQuaternion::from_scaled_axis(a.omega * 1e-5) * a.orientation;
+                }
+            }
+        }
+        assert!(touching[0] > 200 && touching[1] > 100, "{touching:?}");
+    }
+
+    /// The same pairs' geometry alone.
+    #[test]
+    fn convex_and_wall_geometry_give_the_library_bits() {
+        let mut d = Draw::new(3);
+        let mut touching = 0;
+        for case in 0..200 {
+            let a = random_body(&mut d, case % 3 == 0);
+            let mut b = random_body(&mut d, case % 5 == 0);
+            let u = d.unit();
+            b.pos = a.pos - u * (d.range(0.4, 1.02) * (a.radius + b.radius));
+            let guess = if d.flag() { d.vec(1.0) } else { Vec3::zeros() };
+            let (bodies, placements) = run_pair(&a, &b);
+            let at = |i| BodyAt {
+                bodies: &bodies,
+                placements: &placements,
+                i,
+            };
+            let g = convex::contact(&at(0).placed(), &at(1).placed(), &guess);
+            touching += usize::from(g.is_some());
+            let mut out = FractumGeometry::default();
+            let s = fractum_kernel_convex_contact(&fb(&a), &fb(&b), guess.as_ptr(), &mut out);
+            assert_eq!(s, FRACTUM_OK);
+            same_geometry(&out, &g);
+            let wp = a.pos - u * (d.range(0.3, 1.05) * a.radius);
+            let g = convex::wall_contact(&at(0).placed(), &u, &wp);
+            let s = fractum_kernel_wall_geometry(&fb(&a), u.as_ptr(), wp.as_ptr(), &mut out);
+            assert_eq!(s, FRACTUM_OK);
+            same_geometry(&out, &g);
+        }
+        assert!(touching > 80, "{touching}");
+    }
+
+    #[test]
+    fn wall_gives_the_library_bits() {
+        let mut d = Draw::new(4);
+        let mut touching = 0;
+        for &(damp, fric, poly) in &SWITCHES {
+            let (law, k) = laws(damp, fric, 0.25);
+            for case in 0..40 {
+                let mut a = random_body(&mut d, case % 2 == 0);
+                let n = d.unit();
+                let wp = a.pos - n * (d.range(0.3, 1.05) * a.radius);
+                let wv = d.vec(0.5);
+                let dt = 3e-8;
+                let (mut hist, mut held) = (Vec3::zeros(), 0.0);
+                let mut mem = FractumPairMemory::default();
+                for step in 0..3 {
+                    let update = step > 0;
+                    let (bodies, placements) = run_pair(&a, &a);
+                    let at = BodyAt {
+                        bodies: &bodies,
+                        placements: &placements,
+                        i: 0,
+                    };
+                    let p = variants!(
+                        damp,
+                        fric,
+                        poly,
+                        wall_contact(&k, &at, &n, &wp, &wv, &mut hist, &mut held, dt, update)
+                    );
+                    let mut out = FractumContact::default();
+                    let s = fractum_kernel_wall(
+                        &law,
+                        &fb(&a),
+                        n.as_ptr(),
+                        wp.as_ptr(),
+                        wv.as_ptr(),
+                        &mut mem,
+                        dt,
+                        i32::from(update),
+                        i32::from(poly),
+                        &mut out,
+                    );
+                    assert_eq!(s, FRACTUM_OK);
+                    same_contact(&out, &p);
+                    assert_eq!(bits(&mem.hist), vb(&hist));
+                    assert_eq!(mem.radius.to_bits(), held.to_bits());
+                    touching += usize::from(p.is_some());
+                    a.pos += a.vel * 1e-5;
+                }
+            }
+        }
+        assert!(touching > 300, "{touching}");
+    }
+
+    #[test]
+    fn poly_ellipsoid_body_is_what_the_run_adds() {
+        let mut d = Draw::new(5);
+        for _ in 0..20 {
+            let semi: [f64; 6] = std::array::from_fn(|_| d.range(0.2e-3, 1e-3));
+            let (mass, c, q) = (d.range(1e-6, 1e-5), d.vec(1e-2), d.quat());
+            let mut bodies = Bodies::default();
+            bodies.push_poly_ellipsoid(PolyEllipsoid::new(semi).unwrap(), mass, c, q);
+            let qa: [f64; 4] = [q.w, q.i, q.j, q.k];
+            let mut out = FractumBody::default();
+            let s = fractum_kernel_poly_ellipsoid_body(
+                semi.as_ptr(),
+                mass,
+                c.as_ptr(),
+                qa.as_ptr(),
+                &mut out,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(body_bits(&out), body_bits(&fb(&bodies.body(0))));
+            let mut v = 0.0;
+            assert_eq!(fractum_kernel_body_volume(&out, &mut v), FRACTUM_OK);
+            assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
+        }
+        let mut bodies = Bodies::default();
+        bodies.push_sphere(Vec3::zeros(), 0.7e-3, 2500.0, d.quat());
+        let mut v = 0.0;
+        let s = fractum_kernel_body_volume(&fb(&bodies.body(0)), &mut v);
+        assert_eq!(s, FRACTUM_OK);
+        assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
+    }
+
+    #[test]
+    fn criteria_give_the_library_bits() {
+        let mut d = Draw::new(6);
+        for case in 0..100 {
+            let b = random_body(&mut d, case % 2 == 0);
+            let moment: [f64; 9] = std::array::from_fn(|_| d.range(-1e-2, 1e-2));
+            let torque = d.vec(1e-3);
+            let mut stress = [0.0; 9];
+            let s = fractum_kernel_average_stress(
+                &fb(&b),
+                moment.as_ptr(),
+                torque.as_ptr(),
+                stress.as_mut_ptr(),
+            );
+            assert_eq!(s, FRACTUM_OK);
+            let m = grain_average_stress(&b, &Matrix3::from_row_slice(&moment), &torque);
+            let rows: Vec<f64> = (0..9).map(|k| m[(k / 3, k % 3)]).collect();
+            assert_eq!(bits(&stress), bits(&rows));
+            let mut p = [0.0; 3];
+            let s = fractum_kernel_principal_compressions(stress.as_ptr(), p.as_mut_ptr());
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(bits(&p), bits(&criteria::principal_compression_values(&m)));
+            let (s1, s3, sc, mi) = (
+                d.range(-1e8, 1e9),
+                d.range(-1e8, 1e8),
+                d.range(1e8, 1e9),
+                d.range(5.0, 25.0),
+            );
+            let mut fails = -1;
+            let s = fractum_kernel_hoek_brown_fails(s1, s3, sc, mi, &mut fails);
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(fails, i32::from(criteria::hoek_brown_fails(s1, s3, sc, mi)));
+            let (f, a, nu) = (d.range(0.0, 50.0), d.range(1e-6, 1e-4), d.range(0.1, 0.4));
+            let mut st = 0.0;
+            let s = fractum_kernel_contact_tensile_stress(f, a, nu, &mut st);
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(
+                st.to_bits(),
+                criteria::contact_tensile_stress(f, a, nu).to_bits()
+            );
+            let (pr, w, x, xm) = (d.u(), d.range(1.0, 5.0), d.range(1e-4, 1e-3), 5e-4);
+            let mut wf = 0.0;
+            assert_eq!(
+                fractum_kernel_weibull_factor(pr, w, x, xm, &mut wf),
+                FRACTUM_OK
+            );
+            assert_eq!(
+                wf.to_bits(),
+                criteria::weibull_factor(pr, w, x, xm).to_bits()
+            );
+            let n = case % 6;
+            let pts: Vec<[f64; 3]> = (0..n).map(|_| d.vec(1e-3).into()).collect();
+            let (mut normal, mut found) = ([9.0; 3], -1);
+            let s = fractum_kernel_contacts_plane_normal(
+                pts.as_ptr(),
+                n,
+                normal.as_mut_ptr(),
+                &mut found,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            let v: Vec<Vec3> = pts.iter().map(|p| Vec3::from(*p)).collect();
+            match break_plane::contacts_plane_normal(&v) {
+                Some(nrm) => {
+                    assert_eq!(found, 1);
+                    assert_eq!(bits(&normal), vb(&nrm));
+                }
+                None => assert_eq!((found, normal), (0, [0.0; 3])),
+            }
+        }
+        let line = [[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+        let (mut normal, mut found) = ([0.0; 3], -1);
+        let s =
+            fractum_kernel_contacts_plane_normal(line.as_ptr(), 3, normal.as_mut_ptr(), &mut found);
+        assert_eq!((s, found), (FRACTUM_OK, 0));
+    }
+
+    fn fracture_law(springs: i32, ideal: bool, jitter: bool) -> FractumFractureLaw {
+        FractumFractureLaw {
+            mi: 20.56,
+            sigma_c: 592e6,
+            sigma_f: 2.0e9,
+            poisson: POISSON,
+            critical_contacts: 3,
+            ideal_plane: i32::from(ideal),
+            plane_jitter: i32::from(jitter),
+            springs,
+            gc: 50.7,
+        }
+    }
+
+    fn params_of(l: &FractumFractureLaw) -> FractureParams {
+        FractureParams {
+            mi: l.mi,
+            sigma_c: l.sigma_c,
+            sigma_f: l.sigma_f,
+            weibull: None,
+            critical_contacts: l.critical_contacts as usize,
+            cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
+            ideal_plane: l.ideal_plane != 0,
+            plane_jitter: l.plane_jitter != 0,
+            poisson: l.poisson,
+        }
+    }
+
+    fn same_trigger(out: &FractumTrigger, t: &Option<(Trigger, Criterion, f64)>) {
+        match t {
+            None => assert_eq!(*out, FractumTrigger::default()),
+            Some((Trigger::HoekBrown { stress }, c, v)) => {
+                assert_eq!((out.kind, *c), (1, Criterion::HoekBrown));
+                let rows: Vec<f64> = (0..9).map(|k| stress[(k / 3, k % 3)]).collect();
+                assert_eq!(bits(&out.stress), bits(&rows));
+                assert_eq!(out.value.to_bits(), v.to_bits());
+            }
+            Some((Trigger::Contacts { normal }, c, v)) => {
+                assert_eq!((out.kind, *c), (2, Criterion::Contacts));
+                assert_eq!(bits(&out.normal), vb(normal));
+                assert_eq!(out.value.to_bits(), v.to_bits());
+            }
+        }
+    }
+
+    /// A moment that squeezes grain `b` along `axis` with forces `f` (N) at its surface.
+    fn squeeze(b: &Body, axis: Vec3, f: f64) -> Matrix3<f64> {
+        let x = axis * b.radius;
+        (-axis * f) * x.transpose() + (axis * f) * (-x).transpose()
+    }
+
+    #[test]
+    fn check_gives_the_library_bits() {
+        let mut d = Draw::new(7);
+        let mut kinds = [0usize; 3];
+        for case in 0..200 {
+            let law = fracture_law(4, d.flag(), d.flag());
+            let p = params_of(&law);
+            let b = random_body(&mut d, case % 2 == 0);
+            // Up to 2.5 times the force that fails a sphere in uniaxial compression.
+            let f =
+                d.range(0.0, 2.5) * law.sigma_c * 2.0 * std::f64::consts::PI * b.radius * b.radius
+                    / 3.0;
+            let m = squeeze(&b, d.unit(), f);
+            let torque = d.vec(1e-4);
+            let strength = d.range(0.5, 2.0);
+            let n_critical = case % 6;
+            let pts: Vec<[f64; 3]> = (0..n_critical).map(|_| d.vec(1e-3).into()).collect();
+            let top = d.range(1e9, 5e9);
+            let v: Vec<Vec3> = pts.iter().take(3).map(|p| Vec3::from(*p)).collect();
+            let t = grain_fails(&p, &b, strength, &m, &torque, n_critical, &v, top);
+            let rows: Vec<f64> = (0..9).map(|k| m[(k / 3, k % 3)]).collect();
+            let mut out = FractumTrigger::default();
+            let s = fractum_kernel_check(
+                &law,
+                &fb(&b),
+                strength,
+                rows.as_ptr(),
+                torque.as_ptr(),
+                n_critical,
+                if n_critical == 0 {
+                    null()
+                } else {
+                    pts.as_ptr()
+                },
+                top,
+                &mut out,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            same_trigger(&out, &t);
+            kinds[out.kind as usize] += 1;
+        }
+        assert!(kinds.iter().all(|&k| k > 20), "{kinds:?}");
+    }
+
+    fn same_pending(out: &FractumPending, p: &PendingSplit) {
+        for (x, y) in [
+            (&out.centroid, &p.centroid),
+            (&out.accel, &p.accel),
+            (&out.alpha, &p.alpha),
+            (&out.omega, &p.omega),
+        ] {
+            assert_eq!(bits(x), vb(y));
+        }
+        for k in 0..16 {
+            assert_eq!(bits(&out.points[k]), vb(&p.points[k]));
+        }
+        assert_eq!(out.count as usize, p.count);
+        assert_eq!(out.area.to_bits(), p.area.to_bits());
+    }
+
+    /// Splits of spheres (ideal plane or not, with and without the slight rotation) and
+    /// poly-ellipsoids (well and badly shaped) by either trigger, with and without
+    /// cohesion; then the bond of each split and its springs' evaluations as the halves
+    /// part, until they break.
+    #[test]
+    fn split_bond_and_springs_give_the_library_bits() {
+        let mut d = Draw::new(8);
+        let (mut splits, mut springs_made, mut broke) = (0, 0, 0);
+        for case in 0..120 {
+            let springs = [0, 3, 4, 16][case % 4];
+            let law = fracture_law(springs, d.flag(), d.flag());
+            let p = params_of(&law);
+            let mut b = random_body(&mut d, case % 3 != 0);
+            if case % 12 == 5 {
+                let pe = PolyEllipsoid::new([1e-3, 0.1e-3, 1e-3, 0.1e-3, 1e-3, 0.1e-3]).unwrap();
+                b = Body::poly_ellipsoid(pe, 1e-6, b.pos, d.quat());
+            }
+            let trigger = if d.flag() {
+                let m = squeeze(&b, d.unit(), 50.0);
+                Trigger::HoekBrown {
+                    stress: m / b.volume() + Matrix3::from_fn(|_, _| d.range(-1e6, 1e6)),
+                }
+            } else {
+                Trigger::Contacts { normal: d.unit() }
+            };
+            let ft = match trigger {
+                Trigger::HoekBrown { stress } => FractumTrigger {
+                    kind: 1,
+                    stress: std::array::from_fn(|k| stress[(k / 3, k % 3)]),
+                    ..Default::default()
+                },
+                Trigger::Contacts { normal } => FractumTrigger {
+                    kind: 2,
+                    normal: normal.into(),
+                    ..Default::default()
+                },
+            };
+            let (force, torque) = (d.vec(30.0), d.vec(1e-3));
+            let u: [f64; 6] = std::array::from_fn(|_| d.u());
+            let jitter = d.flag().then(|| break_plane::jitter_angles(&u));
+            let lib = split_grain(&p, &b, &force, &torque, &trigger, jitter);
+            let mut out = FractumSplit::default();
+            let s = fractum_kernel_split(
+                &law,
+                &fb(&b),
+                force.as_ptr(),
+                torque.as_ptr(),
+                &ft,
+                jitter.as_ref().map_or(null(), |j| j.as_ptr()),
+                &mut out,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            let Some(split) = lib else {
+                assert_eq!(out.axis, -1);
+                continue;
+            };
+            splits += 1;
+            assert_eq!(out.axis as usize, split.axis);
+            assert_eq!(body_bits(&out.plus), body_bits(&fb(&split.plus)));
+            assert_eq!(body_bits(&out.minus), body_bits(&fb(&split.minus)));
+            same_pending(&out.pending, &split.pending);
+
+            // The bond, under the halves' own forces after the split.
+            let (pa, pb) = (split.plus, split.minus);
+            let loads = [d.vec(10.0), d.vec(1e-3), d.vec(10.0), d.vec(1e-3)];
+            let mut made: Vec<MadeSpring> = Vec::new();
+            if let Some((gc, _)) = p.cohesion {
+                let [fa, ta, fb_, tb] = &loads;
+                bond_split(gc, &pa, &pb, [fa, ta, fb_, tb], &split.pending, |m| {
+                    made.push(m)
+                });
+            }
+            let mut fsprings = [FractumSpring::default(); 16];
+            let mut n_made = -1;
+            let s = fractum_kernel_bond(
+                &law,
+                &fb(&pa),
+                &fb(&pb),
+                loads[0].as_ptr(),
+                loads[1].as_ptr(),
+                loads[2].as_ptr(),
+                loads[3].as_ptr(),
+                &out.pending,
+                fsprings.as_mut_ptr(),
+                &mut n_made,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(n_made as usize, made.len());
+            springs_made += made.len();
+            for (k, m) in made.iter().enumerate() {
+                assert_eq!(
+                    spring_bits(&fsprings[k]),
+                    spring_bits(&spring_out(&m.spring))
+                );
+                assert_eq!(bits(&fsprings[k].last_force), vb(&m.force));
+            }
+
+            // Each spring as the halves part: evaluated until it breaks.
+            let (mut a, mut bb) = (pa, pb);
+            let apart = (pa.pos - pb.pos).normalize();
+            for (k, m) in made.iter().enumerate() {
+                let mut lib = m.spring.clone();
+                let mut fs = fsprings[k];
+                for step in 0..400 {
+                    a.pos += apart * (1e-9 * step as f64);
+                    bb.pos -= apart * (1e-9 * step as f64);
+                    bb.orientation = UnitQuaternion::from_scaled_axis(d.vec(1e-4)) * bb.orientation;
+                    let act = lib.act(&a.pos, &a.orientation, &bb.pos, &bb.orientation);
+                    let (mut f, mut ta, mut tb, mut w, mut br) =
+                        ([9.0; 3], [9.0; 3], [9.0; 3], 9.0, -1);
+                    let s = fractum_kernel_spring(
+                        &mut fs,
+                        &fb(&a),
+                        &fb(&bb),
+                        f.as_mut_ptr(),
+                        ta.as_mut_ptr(),
+                        tb.as_mut_ptr(),
+                        &mut w,
+                        &mut br,
+                    );
+                    assert_eq!(s, FRACTUM_OK);
+                    assert_eq!(spring_bits(&fs), spring_bits(&spring_out(&lib)));
+                    assert_eq!(bits(&f), vb(&act.force));
+                    assert_eq!(bits(&ta), vb(&act.torque_a));
+                    assert_eq!(bits(&tb), vb(&act.torque_b));
+                    assert_eq!(
+                        (w.to_bits(), br),
+                        (act.work.to_bits(), i32::from(act.broke))
+                    );
+                    if act.broke {
+                        broke += 1;
+                        // A broken spring does nothing more.
+                        let s = fractum_kernel_spring(
+                            &mut fs,
+                            &fb(&a),
+                            &fb(&bb),
+                            f.as_mut_ptr(),
+                            ta.as_mut_ptr(),
+                            tb.as_mut_ptr(),
+                            &mut w,
+                            &mut br,
+                        );
+                        assert_eq!((s, br, w, f), (FRACTUM_OK, 0, 0.0, [0.0; 3]));
+                        break;
+                    }
+                }
+            }
+        }
+        assert!(
+            splits > 60 && springs_made > 200 && broke > 100,
+            "{splits} {springs_made} {broke}"
+        );
+    }
+
+    #[test]
+    fn spring_initial_forces_give_the_library_bits() {
+        let mut d = Draw::new(9);
+        for n in [0usize, 3, 4, 7, 16] {
+            let pts: Vec<[f64; 3]> = (0..n).map(|_| d.vec(1e-3).into()).collect();
+            let demand: [f64; 15] =
+                std::array::from_fn(|k| d.range(-1.0, 1.0) * [10.0, 1e-3, 10.0, 1e-3, 1e-3][k / 3]);
+            let v = |k: usize| Vec3::new(demand[3 * k], demand[3 * k + 1], demand[3 * k + 2]);
+            let lib = cohesion::initial_forces(
+                &pts.iter().map(|p| Vec3::from(*p)).collect::<Vec<_>>(),
+                &Demand {
+                    force_a: v(0),
+                    torque_a: v(1),
+                    force_b: v(2),
+                    torque_b: v(3),
+                    b_offset: v(4),
+                },
+            );
+            let mut forces = vec![[9.0; 3]; n];
+            let s = fractum_kernel_spring_initial_forces(
+                if n == 0 { null() } else { pts.as_ptr() },
+                n,
+                demand.as_ptr(),
+                if n == 0 {
+                    null_mut()
+                } else {
+                    forces.as_mut_ptr()
+                },
+            );
+            assert_eq!(s, FRACTUM_OK);
+            for (f, l) in forces.iter().zip(&lib) {
+                assert_eq!(bits(f), vb(l));
+            }
+        }
+    }
+
+    #[test]
+    fn jitter_angles_and_uniforms_give_the_library_bits() {
+        let mut d = Draw::new(10);
+        for _ in 0..100 {
+            let u: [f64; 6] = std::array::from_fn(|_| d.u());
+            let mut angles = [0.0; 3];
+            let s = fractum_kernel_jitter_angles(u.as_ptr(), angles.as_mut_ptr());
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(bits(&angles), bits(&break_plane::jitter_angles(&u)));
+        }
+        for (seed, key, counter, n) in
+            [(1u64, 2u64, 0u64, 10usize), (1, 2, 1, 10), (7, 0, 12345, 3)]
+        {
+            let mut out = vec![0.0; n];
+            let s = fractum_kernel_uniforms(seed, key, counter, n, out.as_mut_ptr());
+            assert_eq!(s, FRACTUM_OK);
+            let mut lib = vec![0.0; n];
+            uniforms(seed, key, counter, &mut lib);
+            assert_eq!(bits(&out), bits(&lib));
+            assert!(out.iter().all(|&x| x > 0.0 && x <= 1.0));
+        }
+        let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+        fractum_kernel_uniforms(1, 2, 0, 4, a.as_mut_ptr());
+        fractum_kernel_uniforms(1, 2, 1, 4, b.as_mut_ptr());
+        assert_ne!(a, b);
+        let mut x = 0.0;
+        let s = fractum_kernel_uniforms(1, 2, UNIFORM_COUNTERS, 1, &mut x);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        assert_eq!(fractum_kernel_uniforms(1, 2, 0, 0, null_mut()), FRACTUM_OK);
+        assert_eq!(
+            fractum_kernel_uniforms(1, 2, 0, 1, null_mut()),
+            FRACTUM_ERR_NULL
+        );
+    }
+
+    #[test]
+    fn null_pointers_and_bad_input_are_refused() {
+        let mut d = Draw::new(11);
+        let (law, _) = laws(true, true, 0.3);
+        let sphere = fb(&random_body(&mut d, true));
+        let poly = fb(&random_body(&mut d, false));
+        let mut bad = poly;
+        bad.semi[3] = -1e-4;
+        let mut nan = poly;
+        nan.semi[0] = f64::NAN;
+        let v = [0.0, 0.0, 1.0];
+        let mut h = [0.0; 3];
+        let mut mem = FractumPairMemory::default();
+        let mut c = FractumContact::default();
+        let mut g = FractumGeometry::default();
+        let p = v.as_ptr();
+
+        let s = fractum_kernel_hertz_mindlin(
+            null(),
+            p,
+            1e-6,
+            1e-3,
+            1e-6,
+            p,
+            h.as_mut_ptr(),
+            1e-8,
+            1,
+            &mut c,
+        );
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let s =
+            fractum_kernel_hertz_mindlin(&law, p, 1e-6, 1e-3, 1e-6, p, null_mut(), 1e-8, 1, &mut c);
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        assert_eq!(
+            fractum_kernel_convex_contact(&sphere, null(), p, &mut g),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(
+            fractum_kernel_convex_contact(&sphere, &poly, p, null_mut()),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(
+            fractum_kernel_convex_contact(&sphere, &bad, p, &mut g),
+            FRACTUM_ERR_INPUT
+        );
+        assert_eq!(
+            fractum_kernel_wall_geometry(&poly, p, null(), &mut g),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(
+            fractum_kernel_wall_geometry(&nan, p, p, &mut g),
+            FRACTUM_ERR_INPUT
+        );
+        let s = fractum_kernel_pair(&law, &sphere, &poly, null_mut(), 1e-8, 1, 1, &mut c);
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let s = fractum_kernel_pair(&law, &bad, &poly, &mut mem, 1e-8, 1, 1, &mut c);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let s = fractum_kernel_pair(&law, &sphere, &bad, &mut mem, 1e-8, 1, 1, &mut c);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let s = fractum_kernel_wall(&law, &poly, p, p, null(), &mut mem, 1e-8, 1, 1, &mut c);
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let s = fractum_kernel_wall(&law, &bad, p, p, p, &mut mem, 1e-8, 1, 1, &mut c);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+
+        let mut body = FractumBody::default();
+        let q = [1.0, 0.0, 0.0, 0.0];
+        let mut semi = [1e-3; 6];
+        let s = fractum_kernel_poly_ellipsoid_body(semi.as_ptr(), 1e-6, p, null(), &mut body);
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        semi[4] = 0.0;
+        let s = fractum_kernel_poly_ellipsoid_body(semi.as_ptr(), 1e-6, p, q.as_ptr(), &mut body);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let mut x = 0.0;
+        assert_eq!(fractum_kernel_body_volume(null(), &mut x), FRACTUM_ERR_NULL);
+        assert_eq!(fractum_kernel_body_volume(&bad, &mut x), FRACTUM_ERR_INPUT);
+
+        let m = [0.0; 9];
+        let mut out9 = [0.0; 9];
+        let s = fractum_kernel_average_stress(&poly, null(), p, out9.as_mut_ptr());
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let s = fractum_kernel_average_stress(&bad, m.as_ptr(), p, out9.as_mut_ptr());
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        assert_eq!(
+            fractum_kernel_principal_compressions(m.as_ptr(), null_mut()),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(
+            fractum_kernel_hoek_brown_fails(1.0, 0.0, 1.0, 1.0, null_mut()),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(
+            fractum_kernel_contact_tensile_stress(1.0, 1.0, 0.2, null_mut()),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(
+            fractum_kernel_weibull_factor(0.5, 1.0, 1.0, 1.0, null_mut()),
+            FRACTUM_ERR_NULL
+        );
+        let mut found = 0;
+        let mut n3 = [0.0; 3];
+        let s = fractum_kernel_contacts_plane_normal(null(), 3, n3.as_mut_ptr(), &mut found);
+        assert_eq!(s, FRACTUM_ERR_NULL);
+
+        let fl = fracture_law(4, true, true);
+        let mut t = FractumTrigger::default();
+        let s = fractum_kernel_check(&fl, &poly, 1.0, m.as_ptr(), p, 2, null(), 0.0, &mut t);
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let s = fractum_kernel_check(&fl, &bad, 1.0, m.as_ptr(), p, 0, null(), 0.0, &mut t);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let many = fracture_law(17, true, true);
+        let s = fractum_kernel_check(&many, &poly, 1.0, m.as_ptr(), p, 0, null(), 0.0, &mut t);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+
+        let mut split = FractumSplit::default();
+        let hb = FractumTrigger {
+            kind: 1,
+            ..Default::default()
+        };
+        let none = FractumTrigger::default();
+        let s = fractum_kernel_split(&fl, &poly, p, p, null(), null(), &mut split);
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let s = fractum_kernel_split(&fl, &poly, p, p, &none, null(), &mut split);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let s = fractum_kernel_split(&fl, &bad, p, p, &hb, null(), &mut split);
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let s = fractum_kernel_split(&fl, &sphere, p, p, &hb, null(), &mut split);
+        assert_eq!(s, FRACTUM_OK);
+        let mut u6 = [0.5; 6];
+        assert_eq!(
+            fractum_kernel_jitter_angles(u6.as_ptr(), null_mut()),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(
+            fractum_kernel_jitter_angles(null(), u6.as_mut_ptr()),
+            FRACTUM_ERR_NULL
+        );
+
+        let mut springs = [FractumSpring::default(); 16];
+        let mut made = 0;
+        let s = fractum_kernel_bond(
+            &fl,
+            &split.plus,
+            &split.minus,
+            p,
+            p,
+            p,
+            p,
+            &split.pending,
+            null_mut(),
+            &mut made,
+        );
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let s = fractum_kernel_bond(
+            &fl,
+            &split.plus,
+            &bad,
+            p,
+            p,
+            p,
+            p,
+            &split.pending,
+            springs.as_mut_ptr(),
+            &mut made,
+        );
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let mut pend = split.pending;
+        pend.count = 17;
+        let s = fractum_kernel_bond(
+            &fl,
+            &split.plus,
+            &split.minus,
+            p,
+            p,
+            p,
+            p,
+            &pend,
+            springs.as_mut_ptr(),
+            &mut made,
+        );
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+        let demand = [0.0; 15];
+        let s = fractum_kernel_spring_initial_forces(
+            split.pending.points.as_ptr(),
+            4,
+            demand.as_ptr(),
+            null_mut(),
+        );
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let mut sp = FractumSpring::default();
+        let (mut w, mut br) = (0.0, 0);
+        let s = fractum_kernel_spring(
+            &mut sp,
+            &poly,
+            &poly,
+            h.as_mut_ptr(),
+            h.as_mut_ptr(),
+            null_mut(),
+            &mut w,
+            &mut br,
+        );
+        assert_eq!(s, FRACTUM_ERR_NULL);
+        let mut f3 = [0.0; 3];
+        let mut t3 = [0.0; 3];
+        let s = fractum_kernel_spring(
+            &mut sp,
+            &poly,
+            &bad,
+            h.as_mut_ptr(),
+            f3.as_mut_ptr(),
+            t3.as_mut_ptr(),
+            &mut w,
+            &mut br,
+        );
+        assert_eq!(s, FRACTUM_ERR_INPUT);
+    }
+
+    /// The kernels leave the handle API's last-error message alone.
+    #[test]
+    fn kernels_keep_the_last_error() {
+        assert_eq!(crate::fractum_free(u64::MAX), FRACTUM_ERR_HANDLE);
+        // SAFETY: fractum_last_error returns a valid NUL-terminated string.
+        let before = unsafe { std::ffi::CStr::from_ptr(crate::fractum_last_error()) }.to_owned();
+        assert!(!before.is_empty());
+        let mut x = 0.0;
+        assert_eq!(fractum_kernel_body_volume(null(), &mut x), FRACTUM_ERR_NULL);
+        let mut law = FractumContactLaw::default();
+        assert_eq!(
+            fractum_kernel_contact_law(YOUNG, POISSON, 0.5, 0.3, 0, 1, &mut law),
+            FRACTUM_OK
+        );
+        // SAFETY: as above.
+        let after = unsafe { std::ffi::CStr::from_ptr(crate::fractum_last_error()) }.to_owned();
+        assert_eq!(before, after);
+    }
 }

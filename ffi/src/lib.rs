@@ -9,6 +9,10 @@
 //!
 //! Handles are opaque numbers, never addresses: a freed or forged handle is recognised and
 //! rejected (`FRACTUM_ERR_HANDLE`) instead of being dereferenced.
+//!
+//! The kernel exports (`fractum_kernel_*`, in `kernels.rs`) need no handle: they are the
+//! per-contact and per-grain functions of the granular model, for hosts that keep their own
+//! particles (a LAMMPS plugin), each the library function Fractum's own run calls.
 
 use std::cell::RefCell;
 use std::collections::HashMap;
