@@ -33,6 +33,25 @@ static void cross(const double *a, const double *b, double *c)
   c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
+/* Every rank's `mine`, concatenated in rank order, on every rank (plain structs of one build:
+   sent as bytes). */
+template <class T>
+static std::vector<T> gather_all(const std::vector<T> &mine, MPI_Comm world, int nprocs)
+{
+  std::vector<int> bytes_of(nprocs), displs(nprocs);
+  int bytes = static_cast<int>(mine.size() * sizeof(T));
+  MPI_Allgather(&bytes, 1, MPI_INT, bytes_of.data(), 1, MPI_INT, world);
+  int total = 0;
+  for (int r = 0; r < nprocs; r++) {
+    displs[r] = total;
+    total += bytes_of[r];
+  }
+  std::vector<T> all(total / sizeof(T));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), bytes_of.data(), displs.data(),
+                 MPI_BYTE, world);
+  return all;
+}
+
 /* v turned by the unit quaternion q (w x y z). */
 static void rotate(const double *q, const double *v, double *out)
 {
@@ -151,8 +170,7 @@ void FixFractumFracture::init()
   fractum_check_version(lmp, STYLE);
   pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
   if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular", STYLE);
-  if (!pair->shapes) arrays();    // stops with the missing array named
-  arrays();
+  arrays();    // stops with the first missing array named
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "{} needs an atom map (`atom_modify map array`)", STYLE);
   law.mi = mi;
@@ -283,18 +301,7 @@ void FixFractumFracture::bond()
       h.tag = t;
       mine.push_back(h);
     }
-  int nprocs = comm->nprocs;
-  std::vector<int> counts_b(nprocs), displs(nprocs);
-  int bytes = static_cast<int>(mine.size() * sizeof(Half));
-  MPI_Allgather(&bytes, 1, MPI_INT, counts_b.data(), 1, MPI_INT, world);
-  int total = 0;
-  for (int r = 0; r < nprocs; r++) {
-    displs[r] = total;
-    total += counts_b[r];
-  }
-  std::vector<Half> all(total / sizeof(Half));
-  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts_b.data(), displs.data(),
-                 MPI_BYTE, world);
+  const std::vector<Half> all = gather_all(mine, world, comm->nprocs);
   auto find = [&](tagint t) -> const Half * {
     for (const Half &h : all)
       if (h.tag == t) return &h;
@@ -407,19 +414,8 @@ void FixFractumFracture::end_of_step()
     }
     mine.push_back(d);
   }
-  int nprocs = comm->nprocs;
-  std::vector<int> bytes_of(nprocs), displs(nprocs);
-  int bytes = static_cast<int>(mine.size() * sizeof(Decision));
-  MPI_Allgather(&bytes, 1, MPI_INT, bytes_of.data(), 1, MPI_INT, world);
-  int total = 0;
-  for (int r = 0; r < nprocs; r++) {
-    displs[r] = total;
-    total += bytes_of[r];
-  }
-  if (total == 0) return;
-  decisions.resize(total / sizeof(Decision));
-  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, decisions.data(), bytes_of.data(), displs.data(),
-                 MPI_BYTE, world);
+  decisions = gather_all(mine, world, comm->nprocs);
+  if (decisions.empty()) return;
   std::sort(decisions.begin(), decisions.end(),
             [](const Decision &x, const Decision &y) { return x.tag < y.tag; });
   next_reneighbor = update->ntimestep + 1;
@@ -480,18 +476,7 @@ void FixFractumFracture::pre_exchange()
   }
   // Every rank learns every split; the new halves get tags after the largest one, in parent
   // tag order, so that the tags do not depend on the rank count.
-  int nprocs = comm->nprocs;
-  std::vector<int> bytes_of(nprocs), displs(nprocs);
-  int bytes = static_cast<int>(mine.size() * sizeof(Made));
-  MPI_Allgather(&bytes, 1, MPI_INT, bytes_of.data(), 1, MPI_INT, world);
-  int total = 0;
-  for (int r = 0; r < nprocs; r++) {
-    displs[r] = total;
-    total += bytes_of[r];
-  }
-  std::vector<Made> all(total / sizeof(Made));
-  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), bytes_of.data(), displs.data(),
-                 MPI_BYTE, world);
+  std::vector<Made> all = gather_all(mine, world, comm->nprocs);
   std::sort(all.begin(), all.end(), [](const Made &x, const Made &y) { return x.parent < y.parent; });
   tagint maxtag_local = 0, maxtag = 0;
   for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);

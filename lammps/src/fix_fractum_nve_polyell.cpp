@@ -5,7 +5,6 @@
 #include "error.h"
 #include "update.h"
 
-#include <cstring>
 
 using namespace LAMMPS_NS;
 using namespace FixConst;
@@ -48,28 +47,6 @@ void FixFractumNvePolyell::arrays()
   }
 }
 
-/* Atom i as a body; without the shape arrays, a sphere (inertia 2/5 m r^2). */
-void FixFractumNvePolyell::body(int i, FractumBody &b)
-{
-  if (shape) {
-    fractum_body(atom, shape, quat, inertia, i, b);
-    return;
-  }
-  std::memset(&b, 0, sizeof b);
-  for (int k = 0; k < 3; k++) {
-    b.pos[k] = atom->x[i][k];
-    b.vel[k] = atom->v[i][k];
-    b.omega[k] = atom->omega[i][k];
-  }
-  b.quat[0] = b.to_body[0] = 1.0;
-  b.mass = atom->rmass[i];
-  b.radius = atom->radius[i];
-  double moment = 0.4 * b.mass * b.radius * b.radius;
-  for (int k = 0; k < 3; k++) b.inertia[k] = moment;
-  for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
-  b.sphere = 1;
-}
-
 void FixFractumNvePolyell::store(int i, const FractumBody &b)
 {
   for (int k = 0; k < 3; k++) {
@@ -81,18 +58,24 @@ void FixFractumNvePolyell::store(int i, const FractumBody &b)
     for (int k = 0; k < 4; k++) quat[i][k] = b.quat[k];
 }
 
-void FixFractumNvePolyell::initial_integrate(int)
+/* Advances every owned atom of the group by `step` (a kick-drift or a kick kernel). */
+void FixFractumNvePolyell::advance(Kernel step, const char *name)
 {
   arrays();
   int *mask = atom->mask;
   FractumBody b;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
-    body(i, b);
-    int status = fractum_kernel_kick_drift(&b, atom->f[i], atom->torque[i], update->dt);
-    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "kick_drift", status);
+    fractum_body(atom, shape, quat, inertia, i, b);
+    int status = step(&b, atom->f[i], atom->torque[i], update->dt);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, name, status);
     store(i, b);
   }
+}
+
+void FixFractumNvePolyell::initial_integrate(int)
+{
+  advance(fractum_kernel_kick_drift, "kick_drift");
 }
 
 void FixFractumNvePolyell::post_integrate()
@@ -102,16 +85,7 @@ void FixFractumNvePolyell::post_integrate()
 
 void FixFractumNvePolyell::final_integrate()
 {
-  arrays();
-  int *mask = atom->mask;
-  FractumBody b;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    body(i, b);
-    int status = fractum_kernel_kick(&b, atom->f[i], atom->torque[i], update->dt);
-    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "kick", status);
-    store(i, b);
-  }
+  advance(fractum_kernel_kick, "kick");
 }
 
 int FixFractumNvePolyell::pack_forward_comm(int n, int *list, double *buf, int, int *)

@@ -23,9 +23,10 @@ class FixFractumNvePolyell : public Fix {
 
  private:
   double **shape = nullptr, **quat = nullptr, **inertia = nullptr;
+  typedef FractumStatus (*Kernel)(FractumBody *, const double *, const double *, double);
   void arrays();
-  void body(int i, FractumBody &b);
   void store(int i, const FractumBody &b);
+  void advance(Kernel step, const char *name);
 };
 
 }    // namespace LAMMPS_NS

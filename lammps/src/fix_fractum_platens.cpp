@@ -85,12 +85,8 @@ void FixFractumPlatens::init()
   fractum_check_version(lmp, STYLE);
   pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
   if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular (it takes its law)", STYLE);
-  double mu = wall_friction >= 0 ? wall_friction : (pair->friction >= 0 ? pair->friction : 0.0);
-  int status = fractum_kernel_contact_law(pair->young, pair->poisson,
-                                          pair->restitution > 0 ? pair->restitution : 1.0, mu,
-                                          pair->restitution > 0 ? 1 : 0,
-                                          pair->friction >= 0 ? 1 : 0, &law);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "contact_law", status);
+  law = pair->law_with(wall_friction >= 0 ? wall_friction
+                                         : (pair->friction >= 0 ? pair->friction : 0.0));
   if ((law.friction || pair->shapes))
     fractum_array(lmp, STYLE, "fr_walls", 6 * WALL_SLOT,
                   "declare `fix ID all property/atom d2_fr_walls 42` (the faces' contact "
@@ -139,14 +135,10 @@ void FixFractumPlatens::post_force(int)
 {
   std::memset(local, 0, sizeof local);
   double **walls = fractum_array_if(lmp, "fr_walls");
+  // The pair refreshed the per-atom arrays in this step's force evaluation, just before.
   const bool shapes = pair->shapes;
   double **shape = pair->shape_arr, **quat = pair->quat_arr, **inertia = pair->inertia_arr;
-  if (shapes) {
-    shape = fractum_array_if(lmp, "fr_shape");
-    quat = fractum_array_if(lmp, "fr_orient");
-    inertia = fractum_array_if(lmp, "fr_inertia");
-  }
-  double **grain = shapes ? fractum_array_if(lmp, "fr_grain") : nullptr;
+  double **grain = pair->grain_arr;
   const int update_history = update->setupflag ? 0 : 1;
   FractumBody b;
   FractumPairMemory scratch;
@@ -154,21 +146,7 @@ void FixFractumPlatens::post_force(int)
   double **f = atom->f, **torque = atom->torque;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
-    if (shapes) {
-      fractum_body(atom, shape, quat, inertia, i, b);
-    } else {
-      std::memset(&b, 0, sizeof b);
-      for (int k = 0; k < 3; k++) {
-        b.pos[k] = atom->x[i][k];
-        b.vel[k] = atom->v[i][k];
-        b.omega[k] = atom->omega[i][k];
-      }
-      b.quat[0] = b.to_body[0] = 1.0;
-      b.mass = atom->rmass[i];
-      b.radius = atom->radius[i];
-      for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
-      b.sphere = 1;
-    }
+    fractum_body(atom, shape, quat, inertia, i, b);
     for (int w = 0; w < FACES; w++) {
       if (!active[w]) continue;
       FractumPairMemory *mem = &scratch;

@@ -51,7 +51,8 @@ double **fractum_array_if(LAMMPS *lmp, const char *name, int *cols = nullptr);
 
 enum { SHAPE_COLS = 7, QUAT_COLS = 7, INERTIA_COLS = 7, GRAIN_COLS = 4, WALL_SLOT = 7 };
 
-/* Fills b from atom i (owned or ghost). */
+/* Fills b from atom i (owned or ghost). Without the shape arrays (shape == nullptr: a scene of
+   spheres without fracture) the atom is a sphere with inertia 2/5 m r^2. */
 inline void fractum_body(Atom *atom, double **shape, double **quat, double **inertia, int i,
                          FractumBody &b)
 {
@@ -59,16 +60,29 @@ inline void fractum_body(Atom *atom, double **shape, double **quat, double **ine
     b.pos[k] = atom->x[i][k];
     b.vel[k] = atom->v[i][k];
     b.omega[k] = atom->omega[i][k];
-    b.inertia[k] = inertia ? inertia[i][k] : 0.0;
+  }
+  b.mass = atom->rmass[i];
+  b.radius = atom->radius[i];
+  if (!shape) {
+    const double moment = 0.4 * b.mass * b.radius * b.radius;
+    for (int k = 0; k < 3; k++) {
+      b.inertia[k] = moment;
+      b.origin[k] = 0.0;
+    }
+    for (int k = 0; k < 4; k++) b.quat[k] = b.to_body[k] = k == 0 ? 1.0 : 0.0;
+    for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
+    b.sphere = 1;
+    return;
+  }
+  for (int k = 0; k < 3; k++) {
+    b.inertia[k] = inertia[i][k];
     b.origin[k] = quat[i][4 + k];
   }
   for (int k = 0; k < 4; k++) {
     b.quat[k] = quat[i][k];
-    b.to_body[k] = inertia ? inertia[i][3 + k] : (k == 0 ? 1.0 : 0.0);
+    b.to_body[k] = inertia[i][3 + k];
   }
   for (int k = 0; k < 6; k++) b.semi[k] = shape[i][1 + k];
-  b.mass = atom->rmass[i];
-  b.radius = atom->radius[i];
   b.sphere = shape[i][0] != 0.0 ? 1 : 0;
 }
 

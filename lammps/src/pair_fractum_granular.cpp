@@ -89,10 +89,7 @@ void PairFractumGranular::coeff(int narg, char **arg)
   }
   if (std::isnan(young) || std::isnan(poisson))
     error->all(FLERR, "{}: young and poisson are required: {}", STYLE, usage);
-  int status = fractum_kernel_contact_law(young, poisson, restitution > 0 ? restitution : 1.0,
-                                          friction >= 0 ? friction : 0.0, restitution > 0 ? 1 : 0,
-                                          friction >= 0 ? 1 : 0, &law);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "contact_law", status);
+  law = law_with(friction >= 0 ? friction : 0.0);
 
   if (!allocated) {
     allocated = 1;
@@ -102,6 +99,15 @@ void PairFractumGranular::coeff(int narg, char **arg)
   }
   for (int i = 1; i <= atom->ntypes; i++)
     for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
+}
+
+FractumContactLaw PairFractumGranular::law_with(double mu)
+{
+  FractumContactLaw out;
+  int status = fractum_kernel_contact_law(young, poisson, restitution > 0 ? restitution : 1.0, mu,
+                                          restitution > 0 ? 1 : 0, friction >= 0 ? 1 : 0, &out);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "contact_law", status);
+  return out;
 }
 
 void PairFractumGranular::init_style()
@@ -196,7 +202,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
   ev_init(eflag, vflag);
   const int nlocal = atom->nlocal;
   const int nall = nlocal + atom->nghost;
-  double **x = atom->x, **f = atom->f, **torque = atom->torque;
+  double **f = atom->f, **torque = atom->torque;
   tagint *tag = atom->tag;
 
   if (shapes) {
@@ -206,24 +212,8 @@ void PairFractumGranular::compute(int eflag, int vflag)
     grain_arr = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, ARRAYS_HINT);
   }
   bodies.resize(nall);
-  for (int i = 0; i < nall; i++) {
-    FractumBody &b = bodies[i];
-    if (shapes) {
-      fractum_body(atom, shape_arr, quat_arr, inertia_arr, i, b);
-    } else {
-      std::memset(&b, 0, sizeof b);
-      for (int k = 0; k < 3; k++) {
-        b.pos[k] = x[i][k];
-        b.vel[k] = atom->v[i][k];
-        b.omega[k] = atom->omega[i][k];
-      }
-      b.quat[0] = b.to_body[0] = 1.0;
-      b.mass = atom->rmass[i];
-      b.radius = atom->radius[i];
-      for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
-      b.sphere = 1;
-    }
-  }
+  for (int i = 0; i < nall; i++)
+    fractum_body(atom, shape_arr, quat_arr, inertia_arr, i, bodies[i]);
   if (history && neighbor->ago == 0) check_history();
   if (recording) {
     moment.assign(9 * (size_t) nlocal, 0.0);

@@ -35,6 +35,8 @@ class PairFractumGranular : public Pair {
   /* The contact law, for the walls (fix fractum/platens) and fracture. */
   double young = 0.0, poisson = 0.0, restitution = -1.0, friction = -1.0;
   FractumContactLaw law{};
+  /* The same law with the Coulomb coefficient mu (the faces may take their own). */
+  FractumContactLaw law_with(double mu);
   /* Bodies that are not spheres take part: Fractum's POLY contact variant. */
   int shapes = 0;
 
