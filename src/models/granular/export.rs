@@ -34,8 +34,13 @@ fn bounds(bodies: &Bodies, walls: &Walls) -> (Vec3, Vec3) {
 }
 
 /// A LAMMPS data file: atom IDs from 1 in Fractum's order, one atom type, diameters and
-/// densities per atom, and the initial velocities.
-pub fn lammps_data(bodies: &Bodies, walls: &Walls, density: f64, title: &str) -> String {
+/// densities per atom (`density(i)`, kg/m³), and the initial velocities.
+pub fn lammps_data(
+    bodies: &Bodies,
+    walls: &Walls,
+    density: impl Fn(usize) -> f64,
+    title: &str,
+) -> String {
     let (lo, hi) = bounds(bodies, walls);
     let mut s = format!(
         "{title} (Fractum, units si, atom_style sphere)\n\n{} atoms\n1 atom types\n\n",
@@ -51,7 +56,7 @@ pub fn lammps_data(bodies: &Bodies, walls: &Walls, density: f64, title: &str) ->
             "{} 1 {:e} {:e} {:e} {:e} {:e}",
             i + 1,
             2.0 * r,
-            density,
+            density(i),
             p.x,
             p.y,
             p.z
@@ -549,7 +554,7 @@ pub fn export(
         vec![
             (
                 "packing.data",
-                lammps_data(bodies, walls, sim.model.cfg.material.density, name),
+                lammps_data(bodies, walls, |_| sim.model.cfg.material.density, name),
             ),
             (
                 "in.fractum",
@@ -607,43 +612,13 @@ fn plugin_face(normal: &Vec3, point: &Vec3) -> Option<(usize, f64)> {
 pub fn plugin_data(sim: &Simulation, title: &str) -> String {
     let st = &sim.model.state;
     let (bodies, walls) = (&st.bodies, &st.walls);
-    let (lo, hi) = bounds(bodies, walls);
-    let mut s = format!(
-        "{title} (Fractum, units si, atom_style sphere, Fractum plugin sections)\n\n{} atoms\n1 atom types\n\n",
-        bodies.len()
+    // The mass through LAMMPS's density column: mass / the bounding sphere's volume.
+    let mut s = lammps_data(
+        bodies,
+        walls,
+        |i| bodies.mass[i] / crate::shape::sphere_volume(bodies.radius[i]),
+        title,
     );
-    for (a, name) in ["x", "y", "z"].iter().enumerate() {
-        let _ = writeln!(s, "{:e} {:e} {name}lo {name}hi", lo[a], hi[a]);
-    }
-    s.push_str("\nAtoms # sphere\n\n");
-    for i in 0..bodies.len() {
-        let (p, r) = (bodies.pos[i], bodies.radius[i]);
-        let density = bodies.mass[i] / crate::shape::sphere_volume(r);
-        let _ = writeln!(
-            s,
-            "{} 1 {:e} {:e} {:e} {:e} {:e}",
-            i + 1,
-            2.0 * r,
-            density,
-            p.x,
-            p.y,
-            p.z
-        );
-    }
-    s.push_str("\nVelocities\n\n");
-    for (i, (v, w)) in bodies.vel.iter().zip(&bodies.omega).enumerate() {
-        let _ = writeln!(
-            s,
-            "{} {:e} {:e} {:e} {:e} {:e} {:e}",
-            i + 1,
-            v.x,
-            v.y,
-            v.z,
-            w.x,
-            w.y,
-            w.z
-        );
-    }
     let fracture = st.fracture.as_ref();
     // One section per array: read_data reads a section's lines into 256-character buffers,
     // which seven numbers at full precision fit.
