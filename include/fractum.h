@@ -630,6 +630,23 @@ enum FractumStatus fractum_kernel_kick_drift(struct FractumBody *b,
                                              const double *torque,
                                              double dt);
 
+// One contact's share of body `b`'s squared-frequency estimate (rad²/s²), as Fractum's
+// step adaptation sums it (`effects::contact::frequency_share`): the contact `c` (its point,
+// normal and stiffness) under `law` (friction adds the tangential spring), on `b` (its
+// centre, mass and principal moments are read). A body's estimate is
+// `sqrt(2 Σ shares)` over its contacts, walls included; see `fractum_kernel_adapted_step`.
+enum FractumStatus fractum_kernel_frequency_share(const struct FractumContactLaw *law,
+                                                  const struct FractumContact *c,
+                                                  const struct FractumBody *b,
+                                                  double *share);
+
+// Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
+// largest sum of a body's frequency shares (`fractum_kernel_frequency_share`) over all
+// bodies, `*next` = the step to take after `dt` (s): `dt` shortened so that `omega dt` is
+// 0.6 when it is above that (omega = sqrt(2 sum)), else `dt` unchanged. Fractum checks
+// every output step and after every split.
+enum FractumStatus fractum_kernel_adapted_step(double sum, double dt, double *next);
+
 // Velocity Verlet's second half kick of one grain (`velocity_verlet::kick_body`): `b`'s
 // velocity and angular velocity advance over `dt`/2 under `force` and `torque`.
 enum FractumStatus fractum_kernel_kick(struct FractumBody *b,

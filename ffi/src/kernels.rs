@@ -1198,6 +1198,55 @@ pub extern "C" fn fractum_kernel_kick_drift(
     })
 }
 
+/// One contact's share of body `b`'s squared-frequency estimate (rad²/s²), as Fractum's
+/// step adaptation sums it (`effects::contact::frequency_share`): the contact `c` (its point,
+/// normal and stiffness) under `law` (friction adds the tangential spring), on `b` (its
+/// centre, mass and principal moments are read). A body's estimate is
+/// `sqrt(2 Σ shares)` over its contacts, walls included; see `fractum_kernel_adapted_step`.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_frequency_share(
+    law: *const FractumContactLaw,
+    c: *const FractumContact,
+    b: *const FractumBody,
+    share: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let (law, c, b) = (get(law)?, get(c)?, get(b)?);
+        let inertia = Vec3::from(b.inertia);
+        input_if(!(b.mass > 0.0) || inertia.iter().any(|m| !(*m > 0.0)))?;
+        let tangential = if law.friction != 0 {
+            fractum::effects::contact::tangential_ratio(law.eight_g, law.two_e)
+        } else {
+            0.0
+        };
+        *get_mut(share)? = fractum::effects::contact::frequency_share(
+            &Vec3::from(c.point),
+            &Vec3::from(c.normal),
+            c.stiffness,
+            &Vec3::from(b.pos),
+            1.0 / b.mass,
+            &inertia.map(|m| 1.0 / m),
+            tangential,
+        );
+        Ok(())
+    })
+}
+
+/// Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
+/// largest sum of a body's frequency shares (`fractum_kernel_frequency_share`) over all
+/// bodies, `*next` = the step to take after `dt` (s): `dt` shortened so that `omega dt` is
+/// 0.6 when it is above that (omega = sqrt(2 sum)), else `dt` unchanged. Fractum checks
+/// every output step and after every split.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_adapted_step(sum: f64, dt: f64, next: *mut f64) -> FractumStatus {
+    kernel(|| {
+        input_if(!(sum >= 0.0) || !(dt > 0.0))?;
+        let omega = fractum::effects::contact::frequency_bound(sum);
+        *get_mut(next)? = fractum::models::granular::adapted_step(omega, dt).unwrap_or(dt);
+        Ok(())
+    })
+}
+
 /// Velocity Verlet's second half kick of one grain (`velocity_verlet::kick_body`): `b`'s
 /// velocity and angular velocity advance over `dt`/2 under `force` and `torque`.
 #[unsafe(no_mangle)]
@@ -1618,6 +1667,77 @@ mod tests {
             }
         }
         assert!(touching[0] > 200 && touching[1] > 100, "{touching:?}");
+    }
+
+    /// The frequency shares of pair contacts as the run's estimate sums them (over a Bodies,
+    /// as `records_max_frequency` reads it), and the adapted step.
+    #[test]
+    fn frequency_share_and_adapted_step_give_the_library_bits() {
+        use fractum::effects::contact::{frequency_bound, frequency_share, tangential_ratio};
+        let mut d = Draw::new(9);
+        let (mut shortened, mut touching) = (0, 0);
+        for fric in [false, true] {
+            let (law, k) = laws(true, fric, 0.4);
+            let tangential = if fric {
+                tangential_ratio(k.eight_g, k.two_e)
+            } else {
+                0.0
+            };
+            for case in 0..40 {
+                let a = random_body(&mut d, case % 2 == 0);
+                let mut b = random_body(&mut d, case % 3 == 0);
+                b.pos = a.pos - d.unit() * (0.9 * (a.radius + b.radius));
+                let mut mem = FractumPairMemory::default();
+                let mut c = FractumContact::default();
+                let s = fractum_kernel_pair(&law, &fb(&a), &fb(&b), &mut mem, 2e-8, 1, 1, &mut c);
+                assert_eq!(s, FRACTUM_OK);
+                if c.touching == 0 {
+                    continue;
+                }
+                touching += 1;
+                let (bodies, _) = run_pair(&a, &b);
+                let mut sum = 0.0;
+                for (i, body) in [a, b].iter().enumerate() {
+                    let mut share = f64::NAN;
+                    let s = fractum_kernel_frequency_share(&law, &c, &fb(body), &mut share);
+                    assert_eq!(s, FRACTUM_OK);
+                    let lib = frequency_share(
+                        &Vec3::from(c.point),
+                        &Vec3::from(c.normal),
+                        c.stiffness,
+                        &bodies.pos[i],
+                        bodies.inv_mass[i],
+                        &bodies.inv_inertia[i],
+                        tangential,
+                    );
+                    assert_eq!(share.to_bits(), lib.to_bits());
+                    sum = share;
+                }
+                let omega = frequency_bound(sum);
+                for dt in [0.5, 1.5, 3.0].map(|f| f * 0.6 / omega) {
+                    let mut next = f64::NAN;
+                    assert_eq!(fractum_kernel_adapted_step(sum, dt, &mut next), FRACTUM_OK);
+                    let lib = fractum::models::granular::adapted_step(omega, dt);
+                    assert_eq!(next.to_bits(), lib.unwrap_or(dt).to_bits());
+                    shortened += usize::from(lib.is_some());
+                }
+            }
+        }
+        assert!(touching > 20, "{touching}");
+        assert_eq!(
+            shortened,
+            2 * touching,
+            "the steps above 0.6 / omega are shortened"
+        );
+        let mut next = 0.0;
+        assert_eq!(
+            fractum_kernel_adapted_step(-1.0, 1e-8, &mut next),
+            FRACTUM_ERR_INPUT
+        );
+        assert_eq!(
+            fractum_kernel_adapted_step(1.0, 0.0, &mut next),
+            FRACTUM_ERR_INPUT
+        );
     }
 
     /// The same pairs' geometry alone.

@@ -6,6 +6,8 @@
 #include "error.h"
 #include "force.h"
 #include "library.h"
+#include "modify.h"
+#include "output.h"
 #include "pair_fractum_granular.h"
 #include "update.h"
 #include "utils.h"
@@ -20,7 +22,7 @@ using namespace FixConst;
 static const char *STYLE = "fix fractum/fracture";
 static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [cohesion KIC N] "
                            "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
-                           "[seed N]";
+                           "[seed N] [adapt_dt EVERY]";
 
 /* Random streams of the plugin's draws (keyed by tag and generation: the same on any rank
    count). */
@@ -129,6 +131,12 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
         error->all(FLERR, "{}: seed = {} must be an integer >= 0", STYLE, s);
       seed = static_cast<bigint>(s);
       iarg += 2;
+    } else if (key == "adapt_dt") {
+      double n = num(iarg + 1, "adapt_dt");
+      if (!(n >= 0 && n == std::floor(n)))
+        error->all(FLERR, "{}: adapt_dt = {} must be an integer >= 0 (steps; 0: off)", STYLE, n);
+      adapt_every = static_cast<bigint>(n);
+      iarg += 2;
     } else {
       error->all(FLERR, "{}: unknown argument {}; allowed: {}", STYLE, key, USAGE);
     }
@@ -139,7 +147,7 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
   next_reneighbor = -1;
   nevery = 1;
   vector_flag = 1;
-  size_vector = 7;
+  size_vector = 13;
   global_freq = 1;
   extvector = 0;
   restart_global = 1;
@@ -153,7 +161,7 @@ int FixFractumFracture::setmask()
 void FixFractumFracture::arrays()
 {
   const char *hint = "declare the fix property/atom arrays d2_fr_shape 7, d2_fr_orient 7, "
-                     "d2_fr_inertia 7 and d2_fr_grain 4 (ghost yes) before read_data";
+                     "d2_fr_inertia 7 and d2_fr_grain 5 (ghost yes) before read_data";
   shape = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, hint);
   quat = fractum_array(lmp, STYLE, "fr_orient", QUAT_COLS, hint);
   inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
@@ -214,10 +222,17 @@ void FixFractumFracture::setup(int)
       grain[i][0] = draw_strength(atom->tag[i], static_cast<int>(grain[i][2]), b);
     }
   }
+  // The forces of the run's first step include the springs' (not advanced here).
+  spring_forces(false);
+  // The next step's evaluation sums frequency shares when the step is to be checked then
+  // (also after a restart).
+  if (adapt_every > 0)
+    pair->frequency_due = (update->ntimestep + 1) % adapt_every == 0 || !decisions.empty();
 }
 
-/* The cohesive springs of the owned atoms: both ends hold a copy, advanced identically. */
-void FixFractumFracture::spring_forces()
+/* The cohesive springs of the owned atoms: both ends hold a copy, advanced identically
+   (`advance` false: their forces now, the springs left as they are). */
+void FixFractumFracture::spring_forces(bool advance)
 {
   if (!cohesion) return;
   double **f = atom->f, **torque = atom->torque;
@@ -253,9 +268,13 @@ void FixFractumFracture::spring_forces()
       int status = fractum_kernel_spring(&sp, is_a ? &bi : &bj, is_a ? &bj : &bi, fa, ta, tb,
                                          &work, &broke);
       if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "spring", status);
-      slot[13] = sp.opening;
-      std::memcpy(&slot[14], sp.last_gap, 3 * sizeof(double));
-      std::memcpy(&slot[17], sp.last_force, 3 * sizeof(double));
+      if (!advance) {
+        if (broke) continue;
+      } else {
+        slot[13] = sp.opening;
+        std::memcpy(&slot[14], sp.last_gap, 3 * sizeof(double));
+        std::memcpy(&slot[17], sp.last_force, 3 * sizeof(double));
+      }
       if (broke) {
         slot[20] = 1.0;
         grain[i][3] -= 1.0;
@@ -272,7 +291,7 @@ void FixFractumFracture::spring_forces()
 void FixFractumFracture::post_force(int)
 {
   arrays();
-  spring_forces();
+  spring_forces(true);
   if (!pending.empty()) bond();
 }
 
@@ -415,10 +434,69 @@ void FixFractumFracture::end_of_step()
     mine.push_back(d);
   }
   decisions = gather_all(mine, world, comm->nprocs);
-  if (decisions.empty()) return;
-  std::sort(decisions.begin(), decisions.end(),
-            [](const Decision &x, const Decision &y) { return x.tag < y.tag; });
-  next_reneighbor = update->ntimestep + 1;
+  if (!decisions.empty()) {
+    std::sort(decisions.begin(), decisions.end(),
+              [](const Decision &x, const Decision &y) { return x.tag < y.tag; });
+    next_reneighbor = update->ntimestep + 1;
+    failed_at = static_cast<double>(update->ntimestep);
+  }
+  if (adapt_every > 0) {
+    // Fractum adapts after a split on the forces at the new shapes, and at its output steps;
+    // here the halves' first evaluation is in the step after the decision.
+    const bigint step = update->ntimestep;
+    if (split_evaluated || (step % adapt_every == 0 && decisions.empty() && pair->frequency_due))
+      adapt_step();
+    split_evaluated = false;
+    pair->frequency_due = (step + 1) % adapt_every == 0 || !decisions.empty();
+  }
+}
+
+/* What a split must keep: the parent's mass exactly, its momentum (to rounding), and the halves
+   apart (vector entries 11-13, maxima over the splits of this rank, reduced when read). */
+void FixFractumFracture::audit(const FractumBody &parent, const FractumBody &plus,
+                               const FractumBody &minus)
+{
+  const double mass_error = std::fabs((plus.mass + minus.mass) - parent.mass) / parent.mass;
+  double dp = 0.0, speed = 0.0, spin = 0.0;
+  for (int d = 0; d < 3; d++) {
+    const double p = plus.mass * plus.vel[d] + minus.mass * minus.vel[d];
+    dp += (p - parent.mass * parent.vel[d]) * (p - parent.mass * parent.vel[d]);
+    speed += parent.vel[d] * parent.vel[d];
+    spin += parent.omega[d] * parent.omega[d];
+  }
+  // Relative to the largest speed of a point of the parent.
+  const double scale = parent.mass * (std::sqrt(speed) + std::sqrt(spin) * parent.radius);
+  const double momentum_error = scale > 0.0 ? std::sqrt(dp) / scale : std::sqrt(dp);
+  FractumGeometry g;
+  const double guess[3] = {0.0, 0.0, 0.0};
+  int status = fractum_kernel_convex_contact(&plus, &minus, guess, &g);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "convex_contact", status);
+  const double overlap = g.touching ? g.depth : 0.0;
+  split_audit[0] = std::max(split_audit[0], mass_error);
+  split_audit[1] = std::max(split_audit[1], momentum_error);
+  split_audit[2] = std::max(split_audit[2], overlap);
+}
+
+/* Shortens the step when the largest frequency estimate of this step's contacts asks. */
+void FixFractumFracture::adapt_step()
+{
+  double local = 0.0, sum = 0.0;
+  const int nlocal = atom->nlocal;
+  if (static_cast<int>(pair->shares.size()) >= nlocal)
+    for (int i = 0; i < nlocal; i++) local = std::max(local, pair->shares[i]);
+  MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_MAX, world);
+  double next = update->dt;
+  int status = fractum_kernel_adapted_step(sum, update->dt, &next);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "adapted_step", status);
+  if (next == update->dt) return;
+  // As fix dt/reset: everything that depends on the step learns it.
+  update->update_time();
+  update->dt = next;
+  update->dt_default = 0;
+  if (force->pair) force->pair->reset_dt();
+  for (auto &ifix : modify->get_fix_list()) ifix->reset_dt();
+  output->reset_dt();
+  shortened += 1.0;
 }
 
 void FixFractumFracture::pre_exchange()
@@ -454,6 +532,7 @@ void FixFractumFracture::pre_exchange()
     int status = fractum_kernel_split(&law, &b, d.force, d.torque, &d.trigger, jitter, &out);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "split", status);
     if (out.axis < 0) continue;    // the shape forbids breaking (Section 3.3.3)
+    audit(b, out.plus, out.minus);
     Made m;
     std::memset(&m, 0, sizeof m);
     m.parent = d.tag;
@@ -510,13 +589,22 @@ void FixFractumFracture::pre_exchange()
       int i = atom->map(ids[k]);
       if (i < 0 || i >= atom->nlocal) continue;
       fractum_store_body(atom, shape, quat, inertia, i, all[k].minus);
+      // A created atom's custom arrays hold whatever the slot held before (an atom that
+      // left): the half starts with no springs and no face contacts.
+      if (slots)
+        for (int s = 0; s < springs * SPRING_SLOT; s++) slots[i][s] = 0.0;
+      if (walls)
+        for (int s = 0; s < 6 * WALL_SLOT; s++) walls[i][s] = 0.0;
       grain[i][0] = draw_strength(ids[k], static_cast<int>(all[k].grain[2]), all[k].minus);
       grain[i][1] = all[k].grain[1];
       grain[i][2] = all[k].grain[2];
       grain[i][3] = 0.0;
+      grain[i][4] = static_cast<double>(all[k].parent);
     }
   }
   pending.clear();
+  split_evaluated = n > 0;
+  if (split_evaluated && adapt_every > 0) pair->frequency_due = true;
   for (int k = 0; k < n; k++) {
     // Every rank that computes a contact of the parent starts its held Hertz radius afresh.
     pair->reshaped.push_back(all[k].parent);
@@ -532,6 +620,14 @@ void FixFractumFracture::pre_exchange()
 double FixFractumFracture::compute_vector(int n)
 {
   if (n < 4) return counts[n];
+  if (n == 7) return shortened;
+  if (n == 8) return update->dt;
+  if (n == 9) return failed_at;
+  if (n >= 10) {
+    double worst = 0.0;
+    MPI_Allreduce(&split_audit[n - 10], &worst, 1, MPI_DOUBLE, MPI_MAX, world);
+    return worst;
+  }
   double local = 0.0, global = 0.0;
   if (n == 4) {
     arrays();
@@ -555,8 +651,10 @@ void FixFractumFracture::write_restart(FILE *fp)
   // Counters and the decisions waiting for the next step (every rank holds all of them).
   if (comm->me != 0) return;
   std::vector<double> buf;
-  buf.push_back(4.0);
+  buf.push_back(5.0);
   for (double c : counts) buf.push_back(c);
+  buf.push_back(shortened);
+  buf.push_back(failed_at);
   buf.push_back(static_cast<double>(decisions.size()));
   buf.push_back(static_cast<double>(sizeof(Decision)));
   const size_t doubles = (sizeof(Decision) + sizeof(double) - 1) / sizeof(double);
@@ -572,13 +670,15 @@ void FixFractumFracture::write_restart(FILE *fp)
 void FixFractumFracture::restart(char *raw)
 {
   auto *buf = reinterpret_cast<double *>(raw);
-  if (static_cast<int>(buf[0]) != 4)
+  if (static_cast<int>(buf[0]) != 5)
     error->all(FLERR, "{}: the restart file's fracture state is not this plugin's", STYLE);
   for (int k = 0; k < 4; k++) counts[k] = buf[1 + k];
-  size_t n = static_cast<size_t>(buf[5]);
-  if (static_cast<size_t>(buf[6]) != sizeof(Decision))
+  shortened = buf[5];
+  failed_at = buf[6];
+  size_t n = static_cast<size_t>(buf[7]);
+  if (static_cast<size_t>(buf[8]) != sizeof(Decision))
     error->all(FLERR, "{}: the restart file's pending splits come from another build", STYLE);
   decisions.resize(n);
-  if (n) std::memcpy(decisions.data(), &buf[7], sizeof(Decision) * n);
+  if (n) std::memcpy(decisions.data(), &buf[9], sizeof(Decision) * n);
   if (n) next_reneighbor = update->ntimestep + 1;
 }

@@ -8,7 +8,7 @@
    fix ID group fractum/fracture mi M sigma_c S sigma_f S [weibull W XM] [cohesion KIC N]
        [critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] [seed N]
 
-   Per-atom state: d2_fr_grain (strength factor, sample grain, splits, intact springs) and
+   Per-atom state: d2_fr_grain (strength factor, sample grain, splits, intact springs, parent) and
    d2_fr_springs (21 doubles per spring slot, N slots):
      [partner tag, role (+1: this atom is A, -1: B), on_a (3), on_b (3), direction (3), f0, k,
       opening, last_gap (3), last_force (3), broken]
@@ -17,7 +17,16 @@
 
    Global vector: 1 splits, 2 grains of the sample broken, 3 splits by Hoek-Brown, 4 by contacts,
    5 intact springs, 6 elastic energy of the contacts (J), 7 energy dissipated in the contacts
-   over the last step (J). */
+   over the last step (J), 8 times the step was shortened (adapt_dt), 9 the step (s), 10 the
+   last step whose end found failing grains (split at the start of the next; Fractum splits
+   them at the end of that step; -1 before any), 11 the largest relative mass change of a split
+   (|m+ + m- - M| / M: 0, the halves' masses add up exactly), 12 the largest momentum change of a
+   split relative to M (|v| + |omega| r), 13 the deepest overlap of two halves at their split (m;
+   0: none), over the splits since LAMMPS started (not kept in restart files).
+
+   With `adapt_dt EVERY` the step adapts as Fractum's does with time.dt = "auto": every EVERY
+   steps (Fractum's output.every) and in the step after a split, the step is shortened so that
+   the estimated highest contact frequency omega gives omega dt = 0.6 when it is above. */
 #ifndef FRACTUM_FIX_FRACTURE_H
 #define FRACTUM_FIX_FRACTURE_H
 
@@ -50,6 +59,11 @@ class FixFractumFracture : public Fix {
   int springs = 0, critical_contacts = 3, ideal_plane = 1, plane_jitter = 0, weibull = 0;
   int cohesion = 0;
   bigint seed = 1;
+  bigint adapt_every = 0;    // 0: the step is left alone
+  bool split_evaluated = false;
+  double shortened = 0.0;
+  double failed_at = -1.0;
+  double split_audit[3] = {0.0, 0.0, 0.0};
 
   /* A grain that failed at the end of a step, split at the next step's pre_exchange. */
   struct Decision {
@@ -71,8 +85,10 @@ class FixFractumFracture : public Fix {
 
   void arrays();
   double draw_strength(tagint tag, int generation, const FractumBody &b);
-  void spring_forces();
+  void spring_forces(bool advance);
   void bond();
+  void adapt_step();
+  void audit(const FractumBody &parent, const FractumBody &plus, const FractumBody &minus);
 };
 
 }    // namespace LAMMPS_NS

@@ -36,6 +36,8 @@ void FixFractumNvePolyell::init()
 
 void FixFractumNvePolyell::arrays()
 {
+  last = fractum_array_if(lmp, "fr_last");
+  if (last) last = fractum_array(lmp, STYLE, "fr_last", 7, "declare d2_fr_last 7");
   shape = fractum_array_if(lmp, "fr_shape");
   if (shape) {
     const char *hint = "declare them with the d2_fr_shape array in one fix property/atom";
@@ -73,8 +75,25 @@ void FixFractumNvePolyell::advance(Kernel step, const char *name)
   }
 }
 
+void FixFractumNvePolyell::setup(int)
+{
+  resume = true;
+}
+
 void FixFractumNvePolyell::initial_integrate(int)
 {
+  // The first step of a run that continues another (d2_fr_last holds the last step's forces)
+  // kicks with those: the forces evaluated at the run's setup miss nothing, but are not the
+  // same bits (contact searches start from other guesses, springs are not advanced).
+  arrays();
+  if (resume && last)
+    for (int i = 0; i < atom->nlocal; i++)
+      if (last[i][0] != 0.0)
+        for (int k = 0; k < 3; k++) {
+          atom->f[i][k] = last[i][1 + k];
+          atom->torque[i][k] = last[i][4 + k];
+        }
+  resume = false;
   advance(fractum_kernel_kick_drift, "kick_drift");
 }
 
@@ -86,6 +105,14 @@ void FixFractumNvePolyell::post_integrate()
 void FixFractumNvePolyell::final_integrate()
 {
   advance(fractum_kernel_kick, "kick");
+  if (last)
+    for (int i = 0; i < atom->nlocal; i++) {
+      last[i][0] = 1.0;
+      for (int k = 0; k < 3; k++) {
+        last[i][1 + k] = atom->f[i][k];
+        last[i][4 + k] = atom->torque[i][k];
+      }
+    }
 }
 
 int FixFractumNvePolyell::pack_forward_comm(int n, int *list, double *buf, int, int *)

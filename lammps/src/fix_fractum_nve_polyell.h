@@ -15,6 +15,7 @@ class FixFractumNvePolyell : public Fix {
   FixFractumNvePolyell(class LAMMPS *, int, char **);
   int setmask() override;
   void init() override;
+  void setup(int) override;
   void initial_integrate(int) override;
   void post_integrate() override;
   void final_integrate() override;
@@ -23,6 +24,8 @@ class FixFractumNvePolyell : public Fix {
 
  private:
   double **shape = nullptr, **quat = nullptr, **inertia = nullptr;
+  double **last = nullptr;    // d2_fr_last, when declared
+  bool resume = false;
   typedef FractumStatus (*Kernel)(FractumBody *, const double *, const double *, double);
   void arrays();
   void store(int i, const FractumBody &b);

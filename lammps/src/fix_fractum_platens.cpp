@@ -140,6 +140,7 @@ void FixFractumPlatens::post_force(int)
   double **shape = pair->shape_arr, **quat = pair->quat_arr, **inertia = pair->inertia_arr;
   double **grain = pair->grain_arr;
   const int update_history = update->setupflag ? 0 : 1;
+  const bool keep_memory = update_history || update->ntimestep == 0;
   FractumBody b;
   FractumPairMemory scratch;
   FractumContact out;
@@ -150,12 +151,15 @@ void FixFractumPlatens::post_force(int)
     for (int w = 0; w < FACES; w++) {
       if (!active[w]) continue;
       FractumPairMemory *mem = &scratch;
-      if (walls) {
-        // hist (3), unused (3), held radius: the pair memory layout.
-        mem = reinterpret_cast<FractumPairMemory *>(&walls[i][WALL_SLOT * w]);
-      } else {
+      // hist (3), unused (3), held radius: the pair memory layout; kept as the pair keeps its.
+      FractumPairMemory *stored =
+          walls ? reinterpret_cast<FractumPairMemory *>(&walls[i][WALL_SLOT * w]) : nullptr;
+      if (stored && keep_memory)
+        mem = stored;
+      else if (stored)
+        scratch = *stored;
+      else
         std::memset(&scratch, 0, sizeof scratch);
-      }
       int status = fractum_kernel_wall(&law, &b, normal[w], point[w], velocity[w], mem,
                                        update->dt, update_history, shapes, &out);
       if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "wall", status);
@@ -168,6 +172,7 @@ void FixFractumPlatens::post_force(int)
       local[FACES + w] += 1.0;
       pair->elastic_energy += out.energy;
       pair->dissipated += out.dissipated;
+      if (pair->frequency_due) pair->add_share(i, out, b);
       if (pair->recording && grain && grain[i][3] == 0.0)
         pair->record(i, out.force, out.point, out.normal_force, out.radius, grain[i][0]);
     }

@@ -11,12 +11,16 @@
                                                                  octant origin in the body frame]
      fix frinertia all property/atom d2_fr_inertia 7 ghost yes  [principal moments (kg m^2),
                                                                  shape-to-body quaternion w x y z]
-     fix frgrain all property/atom d2_fr_grain 4 ghost yes      [Weibull factor, sample grain tag,
-                                                                 splits so far, intact springs]
-     fix frstate all property/atom d2_fr_springs N d2_fr_walls 42   (fracture, platens)
+     fix frgrain all property/atom d2_fr_grain 5 ghost yes      [Weibull factor, sample grain tag,
+                                                                 splits so far, intact springs,
+                                                                 tag split from (0: sample grain)]
+     fix frstate all property/atom d2_fr_springs N d2_fr_walls 42 d2_fr_last 7
+       (fracture, platens, integrator)
        fr_springs 21 doubles per spring slot (see fix_fractum_fracture.h)
        fr_walls   7 doubles per box face: tangential displacement (3), unused (3), held Hertz
                   radius
+       fr_last    the force and torque of the last step (flag 1, force, torque): a later run
+                  (after `run` or a restart) starts from them, as the uninterrupted run would
 */
 #ifndef FRACTUM_ATOMS_H
 #define FRACTUM_ATOMS_H
@@ -49,7 +53,7 @@ double **fractum_array(LAMMPS *lmp, const char *style, const char *name, int min
 /* The same, nullptr when absent. */
 double **fractum_array_if(LAMMPS *lmp, const char *name, int *cols = nullptr);
 
-enum { SHAPE_COLS = 7, QUAT_COLS = 7, INERTIA_COLS = 7, GRAIN_COLS = 4, WALL_SLOT = 7 };
+enum { SHAPE_COLS = 7, QUAT_COLS = 7, INERTIA_COLS = 7, GRAIN_COLS = 5, WALL_SLOT = 7 };
 
 /* Fills b from atom i (owned or ghost). Without the shape arrays (shape == nullptr: a scene of
    spheres without fracture) the atom is a sphere with inertia 2/5 m r^2. */

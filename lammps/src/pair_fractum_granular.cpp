@@ -21,7 +21,7 @@ using namespace LAMMPS_NS;
 static const char *STYLE = "pair fractum/granular";
 static const char *ARRAYS_HINT =
     "declare the fix property/atom arrays d2_fr_shape 7, d2_fr_orient 7, d2_fr_inertia 7 "
-    "and d2_fr_grain 4 (ghost yes) before read_data (fractum export lammps --plugin writes them)";
+    "and d2_fr_grain 5 (ghost yes) before read_data (fractum export lammps --plugin writes them)";
 
 PairFractumGranular::PairFractumGranular(LAMMPS *lmp) : Pair(lmp)
 {
@@ -197,6 +197,15 @@ void PairFractumGranular::record(int i, const double *f, const double *p, double
   c.count++;
 }
 
+void PairFractumGranular::add_share(int i, const FractumContact &c, const FractumBody &b)
+{
+  double share = 0.0;
+  int status = fractum_kernel_frequency_share(&law, &c, &b, &share);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "frequency_share", status);
+  if (shares.size() < static_cast<size_t>(atom->nlocal)) shares.resize(atom->nlocal, 0.0);
+  shares[i] += share;
+}
+
 void PairFractumGranular::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
@@ -219,11 +228,17 @@ void PairFractumGranular::compute(int eflag, int vflag)
     moment.assign(9 * (size_t) nlocal, 0.0);
     critical.assign(nlocal, Critical{0, {0, 0, 0}, {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}});
   }
+  if (frequency_due) shares.assign(nlocal, 0.0);
   elastic_energy = dissipated = 0.0;
   contacts = 0;
+  contributions.clear();
   std::sort(reshaped.begin(), reshaped.end());
   const bool any_reshaped = !reshaped.empty();
   const int update_history = update->setupflag ? 0 : 1;
+  // The evaluation before the first step sets the contacts' held radii and normals as
+  // Fractum's does; the one at the start of a later run (after `run`, or a restart) leaves
+  // them as the last step left them, so that a continued run is the uninterrupted one.
+  const bool keep_memory = update_history || update->ntimestep == 0;
   const double dt = update->dt;
 
   int inum = list->inum;
@@ -241,13 +256,15 @@ void PairFractumGranular::compute(int eflag, int vflag)
     double *values = firstvalue ? firstvalue[i] : nullptr;
     for (int jj = 0; jj < jnum; jj++) {
       int j = jlist[jj] & NEIGHMASK;
-      FractumPairMemory *mem;
-      if (values) {
-        mem = reinterpret_cast<FractumPairMemory *>(&values[7 * jj]);
-      } else {
+      FractumPairMemory *mem = &scratch;
+      FractumPairMemory *stored =
+          values ? reinterpret_cast<FractumPairMemory *>(&values[7 * jj]) : nullptr;
+      if (stored && keep_memory)
+        mem = stored;
+      else if (stored)
+        scratch = *stored;
+      else
         std::memset(&scratch, 0, sizeof scratch);
-        mem = &scratch;
-      }
       // The kernel always sees the lower tag as body A: a contact gives the same bits on
       // whichever rank computes it, whichever atom's list holds it.
       const bool swap = tag[i] > tag[j];
@@ -260,44 +277,56 @@ void PairFractumGranular::compute(int eflag, int vflag)
                                        shapes, &out);
       if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "pair", status);
       if (touch) {
-        const double *v = reinterpret_cast<const double *>(mem);
+        const double *v = reinterpret_cast<const double *>(stored);
         int keep = 0;
         for (int k = 0; k < 7; k++) keep |= v[k] != 0.0;
         touch[jj] = keep;
       }
       if (!out.touching) continue;
       contacts++;
-      // Force on i; torques on i and j.
-      double fi[3], ti[3], tj[3];
-      for (int k = 0; k < 3; k++) {
-        fi[k] = swap ? -out.force[k] : out.force[k];
-        ti[k] = swap ? out.torque_b[k] : out.torque_a[k];
-        tj[k] = swap ? out.torque_a[k] : out.torque_b[k];
-      }
-      for (int k = 0; k < 3; k++) {
-        f[i][k] += fi[k];
-        torque[i][k] += ti[k];
-      }
-      const bool j_owned = j < nlocal;
-      if (j_owned) {
-        for (int k = 0; k < 3; k++) {
-          f[j][k] -= fi[k];
-          torque[j][k] += tj[k];
-        }
-      }
       // Energies once per contact: by the rank that owns its lower-tag atom.
       if (a < nlocal) {
         elastic_energy += out.energy;
         dissipated += out.dissipated;
       }
-      if (recording) {
-        if (grain_arr[i][3] == 0.0) record(i, fi, out.point, out.normal_force, out.radius, grain_arr[i][0]);
-        if (j_owned && grain_arr[j][3] == 0.0) {
-          double fj[3] = {-fi[0], -fi[1], -fi[2]};
-          record(j, fj, out.point, out.normal_force, out.radius, grain_arr[j][0]);
+      // Force on i; torques on i and j.
+      Share si;
+      si.i = i;
+      si.partner = tag[j];
+      si.c = out;
+      for (int k = 0; k < 3; k++) {
+        si.c.force[k] = swap ? -out.force[k] : out.force[k];
+        si.c.torque_a[k] = swap ? out.torque_b[k] : out.torque_a[k];
+      }
+      contributions.push_back(si);
+      if (j < nlocal) {
+        Share sj;
+        sj.i = j;
+        sj.partner = tag[i];
+        sj.c = out;
+        for (int k = 0; k < 3; k++) {
+          sj.c.force[k] = -si.c.force[k];
+          sj.c.torque_a[k] = swap ? out.torque_a[k] : out.torque_b[k];
         }
+        contributions.push_back(sj);
       }
     }
+  }
+  // Each atom sums its contacts in the order of its partners' tags: the same bits on any rank
+  // count (the neighbour lists' order depends on the decomposition, and a sum's rounding on
+  // its order).
+  std::sort(contributions.begin(), contributions.end(), [](const Share &x, const Share &y) {
+    return x.i != y.i ? x.i < y.i : x.partner < y.partner;
+  });
+  for (const Share &s : contributions) {
+    const int i = s.i;
+    for (int k = 0; k < 3; k++) {
+      f[i][k] += s.c.force[k];
+      torque[i][k] += s.c.torque_a[k];
+    }
+    if (frequency_due) add_share(i, s.c, bodies[i]);
+    if (recording && grain_arr[i][3] == 0.0)
+      record(i, s.c.force, s.c.point, s.c.normal_force, s.c.radius, grain_arr[i][0]);
   }
   reshaped.clear();
 }
@@ -305,5 +334,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
 double PairFractumGranular::memory_usage()
 {
   return (double) bodies.capacity() * sizeof(FractumBody) +
-      (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical);
+      (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
+      (double) shares.capacity() * sizeof(double) +
+      (double) contributions.capacity() * sizeof(Share);
 }

@@ -57,6 +57,13 @@ class PairFractumGranular : public Pair {
   /* Record one contact of owned atom i: force f on it at point p. */
   void record(int i, const double *f, const double *p, double normal_force, double radius,
               double strength);
+  /* Fractum's step adaptation (fix fractum/fracture adapt_dt) reads, per owned atom, the sum of
+     its contacts' frequency shares: the pair and the walls fill it in an evaluation while
+     `frequency_due` is set. */
+  bool frequency_due = false;
+  std::vector<double> shares;    // 1 per owned atom
+  /* Add contact c's share to owned atom i (body b). */
+  void add_share(int i, const FractumContact &c, const FractumBody &b);
   /* Tags of bodies reshaped by a split: their contacts' held Hertz radii start afresh. */
   std::vector<tagint> reshaped;
 
@@ -67,6 +74,13 @@ class PairFractumGranular : public Pair {
   class FractumNeighHistoryView *history = nullptr;
   class Fix *dummy = nullptr;
   std::vector<FractumBody> bodies;
+  /* One contact as one owned atom sees it: force and torque on it (force, torque_a). */
+  struct Share {
+    int i;
+    tagint partner;
+    FractumContact c;
+  };
+  std::vector<Share> contributions;
   double maxrad = 0.0;
   void check_history();
 };

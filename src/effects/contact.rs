@@ -1071,10 +1071,9 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
     /// the Rayleigh step does not see.
     fn max_frequency(&self, bodies: &Bodies, walls: &Walls) -> f64 {
         if POLY {
-            let tangential = self
-                .params
-                .mindlin
-                .map_or(0.0, |m| m.g_eff * 8.0 / (2.0 * self.params.hertz.e_eff));
+            let tangential = self.params.mindlin.map_or(0.0, |m| {
+                tangential_ratio(m.g_eff * 8.0, 2.0 * self.params.hertz.e_eff)
+            });
             return records_max_frequency(&self.records.list, bodies, tangential);
         }
         if self.pairs.offsets.len() != bodies.len() + 1 {
@@ -1188,19 +1187,20 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
 }
 
 /// A Gershgorin bound on the highest frequency (rad/s) of the recorded contacts, translation
-/// and rotation: body i's contacts of stiffness k with lever c and normal n add `k / m_i` and
-/// `k |c × n|² / I_min,i` to its squared frequency estimate, which is then doubled (both
-/// partners move), as for spheres.
+/// and rotation: each body sums its contacts' [`frequency_share`]s, and the bound is
+/// `sqrt(2 Σ)` (both partners move), as for spheres.
 fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential: f64) -> f64 {
     let mut w2 = vec![0.0; bodies.len()];
     let mut add = |i: usize, r: &ContactRecord| {
-        let lever = r.point - bodies.pos[i];
-        let arm2 = lever.cross(&r.normal).norm_squared();
-        let inv_i = bodies.inv_inertia[i].max();
-        // Normal spring through its lever, and the tangential (Mindlin) spring, whose lever
-        // turns with the tangential direction: up to the whole lever.
-        w2[i] += r.stiffness * (bodies.inv_mass[i] + arm2 * inv_i)
-            + tangential * r.stiffness * (bodies.inv_mass[i] + lever.norm_squared() * inv_i);
+        w2[i] += frequency_share(
+            &r.point,
+            &r.normal,
+            r.stiffness,
+            &bodies.pos[i],
+            bodies.inv_mass[i],
+            &bodies.inv_inertia[i],
+            tangential,
+        );
     };
     for r in records {
         add(r.i as usize, r);
@@ -1208,5 +1208,39 @@ fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential:
             add(r.j as usize, r);
         }
     }
-    w2.iter().map(|x| (2.0 * x).sqrt()).fold(0.0, f64::max)
+    w2.iter().map(|&x| frequency_bound(x)).fold(0.0, f64::max)
+}
+
+/// One contact's share of a body's squared-frequency estimate (rad²/s², before doubling): a
+/// contact of normal stiffness `stiffness` (N/m) at `point` with unit `normal` on a body at
+/// `pos` of inverse mass `inv_mass` and inverse principal moments `inv_inertia` adds
+/// `k / m + k |c × n|² / I_min` through its normal spring (c the lever from the centre) and,
+/// with friction, `t k (1 / m + |c|² / I_min)` through its tangential (Mindlin) spring, whose
+/// lever turns with the tangential direction: up to the whole lever. `tangential` is the
+/// tangential-to-normal stiffness ratio [`tangential_ratio`] (0 without friction).
+pub fn frequency_share(
+    point: &Vec3,
+    normal: &Vec3,
+    stiffness: f64,
+    pos: &Vec3,
+    inv_mass: f64,
+    inv_inertia: &Vec3,
+    tangential: f64,
+) -> f64 {
+    let lever = point - pos;
+    let arm2 = lever.cross(normal).norm_squared();
+    let inv_i = inv_inertia.max();
+    stiffness * (inv_mass + arm2 * inv_i)
+        + tangential * stiffness * (inv_mass + lever.norm_squared() * inv_i)
+}
+
+/// The frequency bound (rad/s) of a body whose contacts' [`frequency_share`]s sum to `sum`.
+pub fn frequency_bound(sum: f64) -> f64 {
+    (2.0 * sum).sqrt()
+}
+
+/// The Mindlin tangential stiffness over the Hertz normal stiffness, `8 G* / (2 E*)` (0
+/// without friction), for [`frequency_share`].
+pub fn tangential_ratio(eight_g: f64, two_e: f64) -> f64 {
+    eight_g / two_e
 }

@@ -108,6 +108,10 @@ pub struct SplitEvent {
     pub stress: f64,
     /// The springs made (0 without cohesion).
     pub springs: u32,
+    /// The parent's shape axis normal to the break plane (0 a, 1 b, 2 c), and the halves'
+    /// semi-axes a+ a- b+ b- c+ c- (m): the + half's, which the parent keeps, then the − half's.
+    pub axis: u8,
+    pub semi: [[f64; 6]; 2],
 }
 
 /// A grain that fails: its index, what decides its break plane, the criterion and the stress
@@ -358,6 +362,11 @@ impl GrainFracture {
                 criterion,
                 stress,
                 springs: 0,
+                axis: made.axis as u8,
+                semi: [
+                    made.plus.shape.semi_axes(made.plus.radius),
+                    made.minus.shape.semi_axes(made.minus.radius),
+                ],
             });
             pending.push(PendingSplit {
                 a: i,

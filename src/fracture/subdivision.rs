@@ -76,7 +76,16 @@ pub fn split(parent: &Parent, k: usize) -> [Half; 2] {
     let (pe_p, cp) = place(sp, shift_p);
     let (pe_m, cm) = place(sm, shift_m);
     let (vp, vm) = (pe_p.volume(), pe_m.volume());
-    let (mp, mm) = (parent.mass * vp / (vp + vm), parent.mass * vm / (vp + vm));
+    // The larger half's mass from its volume share, the smaller's as the rest: M − m_large
+    // is exact in floating point (m_large lies in [M/2, M]), so the halves' masses add up to
+    // the parent's exactly and repeated splits never drift the sample's mass.
+    let (mp, mm) = if vp >= vm {
+        let mp = parent.mass * vp / (vp + vm);
+        (mp, parent.mass - mp)
+    } else {
+        let mm = parent.mass * vm / (vp + vm);
+        (parent.mass - mm, mm)
+    };
     let shift = parent.centroid - (cp * mp + cm * mm) / parent.mass;
     let half = |pe: PolyEllipsoid, mass: f64, c: Vec3| {
         let centroid = c + shift;
@@ -107,7 +116,7 @@ mod tests {
         assert!((SIDE_RATIO - 0.9f64.sqrt()).abs() < 1e-16);
     }
 
-    /// A split conserves mass to 1e-12 relative, keeps the centre of mass and the momentum,
+    /// A split conserves mass exactly (in floating point), keeps the centre of mass and the momentum,
     /// and both halves lie inside the parent.
     #[test]
     fn split_conserves_mass_centre_and_momentum() {
@@ -127,7 +136,11 @@ mod tests {
         };
         for k in 0..3 {
             let [a, b] = split(&parent, k);
-            assert!(((a.mass + b.mass) / parent.mass - 1.0).abs() < 1e-12);
+            assert_eq!(a.mass + b.mass, parent.mass);
+            for m in [1.0, 3.3e-9, 7.77e-7, 0.1 + 0.2] {
+                let [a, b] = split(&Parent { mass: m, ..parent }, k);
+                assert_eq!(a.mass + b.mass, m, "axis {k}, mass {m}");
+            }
             let com = (a.centroid * a.mass + b.centroid * b.mass) / parent.mass;
             assert!((com - parent.centroid).norm() < 1e-15);
             let p = a.velocity * a.mass + b.velocity * b.mass;

@@ -165,3 +165,140 @@ def test_missing_array_names_it(tmp_path):
     assert p.returncode != 0
     error = next(l for l in out.splitlines() if l.startswith("ERROR"))
     assert "fix fractum/platens" in error and "d2_fr_walls" in error, error
+
+
+def with_run(folder, before_run="", run=None, after=""):
+    """The exported in.fractum with `before_run` just before its run, the run replaced by
+    `run` when given, and `after` after it."""
+    with open(os.path.join(folder, "in.fractum")) as f:
+        lines = f.read().splitlines()
+    at = next(k for k, l in enumerate(lines) if l.startswith("run "))
+    body = lines[:at] + before_run.splitlines() + [run or lines[at]] + after.splitlines()
+    return "\n".join(body) + "\n"
+
+
+def printed(out, word):
+    """The numbers LAMMPS printed on the line starting with `word`."""
+    line = next(l for l in out.splitlines() if l.startswith(word + " "))
+    return [float(v) for v in line.split()[1:]]
+
+
+CRUSH = os.path.join(ROOT, "scenes", "crush_grain.toml")
+
+
+def test_crush_grain_matches_fractum_to_the_first_split(tmp_path):
+    """The grain crushed between platens: the same force-displacement curve (1e-6 of the peak)
+    up to the first split, the same failing step, and the same halves (semi-axes, so the
+    axis) as Fractum's own run. The step adapts in both (time.dt = "auto")."""
+    folder = str(tmp_path)
+    short = ["--set", "loading.end_displacement=0.06e-3"]    # past the first split (0.057 mm)
+    fractum("export", "lammps", CRUSH, folder, "--plugin", *short)
+    fractum("run", CRUSH, "--out", os.path.join(folder, "fr"), *short)
+    script = with_run(
+        folder,
+        before_run="variable splits equal f_fracture[1]\n"
+                   "fix first all halt 1 v_splits > 0 error continue message no",
+        after='print "SPLIT $(f_fracture[10]) $(f_fracture[8]) $(f_fracture[11])"\n'
+              "write_dump all custom shapes.dump id d2_fr_shape[2] d2_fr_shape[3] d2_fr_shape[4] "
+              "d2_fr_shape[5] d2_fr_shape[6] d2_fr_shape[7] modify format float %.17g")
+    p = lammps(folder, script)
+    failed_at, shortened, mass_error = printed(p.stdout, "SPLIT")
+    with open(os.path.join(folder, "fr", "summary.json")) as f:
+        import json
+        first = json.load(f)["first_split"]
+    own = np.genfromtxt(os.path.join(folder, "fr", "series.csv"), delimiter=",", names=True)
+    lmp = np.genfromtxt(os.path.join(folder, "series_lammps.csv"), delimiter=",", names=True)
+    # Rows before the split: Fractum's up to its first row with two bodies; the plugin's run
+    # stopped just after its split, so its rows are all of one atom.
+    n_own = int(np.argmax(own["bodies"] > 1))
+    n_lmp = int(np.sum(lmp["atoms"] == 1))
+    print(f"first failure at step {first['step']:.0f} (Fractum), {failed_at:.0f} (plugin); "
+          f"step shortened {shortened:.0f} times before it")
+    assert n_own > 100 and n_lmp >= n_own
+    assert failed_at == first["step"]
+    assert shortened > 0, "the step adapted before the first split"
+    assert mass_error == 0.0
+    t_err = np.abs(own["time"][:n_own] - lmp["time"][:n_own]).max() / own["time"][n_own]
+    peak = np.abs(own["force_top"][:n_own]).max()
+    f_err = max(np.abs(own["force_top"][:n_own] - lmp["force_zhi"][:n_own]).max(),
+                np.abs(own["force_bottom"][:n_own] + lmp["force_zlo"][:n_own]).max()) / peak
+    print(f"up to the split: time error {t_err:.3g}, force error {f_err:.3g} of {peak:.4g} N")
+    assert t_err <= 1e-10    # the series is printed with 11 significant digits
+    assert f_err <= 1e-6
+    shapes = read_dump(os.path.join(folder, "shapes.dump"))
+    plus, minus = shapes[0, 1:], shapes[1, 1:]
+    for mine, theirs in [(plus, first["semi_plus"]), (minus, first["semi_minus"])]:
+        assert np.abs(mine - np.array(theirs)).max() <= 1e-12 * max(theirs)
+    # The break axis: the one pair of semi-axes in which the halves differ.
+    axes = [k for k in range(3) if not np.array_equal(plus[2 * k:2 * k + 2], minus[2 * k:2 * k + 2])]
+    assert axes == [first["axis"]]
+
+
+def split_run(folder, ranks, steps, restart_at=None):
+    """The small loaded packing with friction, fracture, Weibull and cohesion for `steps`
+    steps on `ranks` ranks (through a restart file written at `restart_at` and read by a
+    second LAMMPS run when given); the final atoms, and what the fracture fix reports."""
+    report = ('print "FRACTURE $(f_fracture[1]) $(f_fracture[11]) $(f_fracture[12]) '
+              '$(f_fracture[13]) $(atoms)"\n'
+              "write_dump all custom final.dump id mass radius x y z vx vy vz d2_fr_grain[5] "
+              "d2_fr_grain[1] modify format float %.17g")
+    head = head_of(folder)
+    if restart_at is None:
+        p = lammps(folder, head + f"run {steps}\n" + report + "\n", ranks)
+    else:
+        lammps(folder, head + f"run {restart_at}\nwrite_restart state.restart\n", ranks)
+        # What a restart file does not hold is declared again: the plugin, the per-atom
+        # arrays' fixes, communication settings, the pair and the fixes with their arguments.
+        keep = [l for l in head.splitlines()
+                if l.startswith(("variable", "plugin", "fix", "pair_", "neighbor", "neigh_"))
+                and "read_data" not in l]
+        script = "\n".join(keep[:2] + ["read_restart state.restart", "newton off",
+                                       "comm_modify vel yes"] + keep[2:]) + "\n"
+        p = lammps(folder, script + f"run {steps - restart_at}\n" + report + "\n", ranks)
+    return read_dump(os.path.join(folder, "final.dump")), printed(p.stdout, "FRACTURE")
+
+
+def export_small(folder):
+    fractum("export", "lammps", os.path.join(ROOT, "scenes", "shpb_sand.toml"), folder,
+            "--plugin", *SMALL)
+
+
+def test_one_and_two_ranks_agree_and_splits_conserve(tmp_path):
+    """1 rank against 2 on a run with friction and splits: the same atoms (tags, radii,
+    masses, parents) exactly and the same positions and velocities (every atom sums its
+    contacts in its partners' tag order, so rounding does not depend on the decomposition).
+    Every split keeps the parent's mass exactly, its momentum to rounding, and its halves
+    apart."""
+    folder = str(tmp_path)
+    export_small(folder)
+    one, (splits, mass_err, p_err, overlap, atoms) = split_run(folder, 1, 3000)
+    two, report_two = split_run(folder, 2, 3000)
+    print(f"{splits:.0f} splits, {atoms:.0f} atoms; mass change {mass_err:.3g}, momentum "
+          f"change {p_err:.3g}, overlap of halves {overlap:.3g} m")
+    assert splits >= 10
+    assert report_two == [splits, mass_err, p_err, overlap, atoms]
+    assert one.shape == two.shape
+    assert np.array_equal(one[:, [0, 1, 2, 9]], two[:, [0, 1, 2, 9]])
+    children = one[one[:, 9] > 0]
+    assert len(children) == splits and set(children[:, 0]) == set(range(112, 112 + int(splits)))
+    box = 3e-3
+    err = np.abs(one[:, 3:6] - two[:, 3:6]).max() / box
+    print(f"positions: 1 against 2 ranks {err:.3g} of the box")
+    assert err <= 1e-10
+    assert mass_err == 0.0
+    # Rounding of a sum of two products: a few units in the last place.
+    assert p_err <= 1e-14
+    assert overlap <= 1e-12 * one[:, 2].max()
+
+
+def test_restart_continues_as_the_uninterrupted_run(tmp_path):
+    folder = str(tmp_path)
+    export_small(folder)
+    straight, report = split_run(folder, 2, 3000)
+    resumed, report_resumed = split_run(folder, 2, 3000, restart_at=1500)
+    assert report[0] >= 10
+    assert report_resumed[0] == report[0] and report_resumed[4] == report[4]
+    assert np.array_equal(straight[:, [0, 1, 2, 9, 10]], resumed[:, [0, 1, 2, 9, 10]])
+    err = np.abs(straight[:, 3:9] - resumed[:, 3:9]).max()
+    print(f"resumed against uninterrupted: largest position/velocity difference {err:.3g}")
+    assert err == 0.0

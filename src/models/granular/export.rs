@@ -659,7 +659,8 @@ pub fn plugin_data(sim: &Simulation, title: &str) -> String {
             vec![
                 inertia.x, inertia.y, inertia.z, to_body.w, to_body.i, to_body.j, to_body.k,
             ],
-            vec![strength, grain, generation, bonds],
+            // The parent's tag: 0 for a grain of the sample (the plugin fills it at splits).
+            vec![strength, grain, generation, bonds, 0.0],
         ];
         for ((_, text), row) in sections.iter_mut().zip(rows) {
             let _ = write!(text, "{}", i + 1);
@@ -746,8 +747,8 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
          fix             frshape all property/atom d2_fr_shape 7 ghost yes\n\
          fix             frorient all property/atom d2_fr_orient 7 ghost yes\n\
          fix             frinertia all property/atom d2_fr_inertia 7 ghost yes\n\
-         fix             frgrain all property/atom d2_fr_grain 4 ghost yes\n\
-         fix             frstate all property/atom d2_fr_springs {} d2_fr_walls 42\n\
+         fix             frgrain all property/atom d2_fr_grain 5 ghost yes\n\
+         fix             frstate all property/atom d2_fr_springs {} d2_fr_walls 42 d2_fr_last 7\n\
          read_data       {data_file} fix frshape NULL FractumShape fix frorient NULL FractumOrient &\n\
          \x20               fix frinertia NULL FractumInertia fix frgrain NULL FractumGrain\n",
         21 * plan.cfg.fracture.springs.max(1)
@@ -812,6 +813,9 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         let _ = writeln!(s, "{line}");
     }
     let fracture = plan.has(EffectKind::Fracture);
+    // Fractum shortens a fracture run's step as pieces stiffen (time.dt = "auto"); the plugin
+    // does the same (adapt_dt), so the run ends at Fractum's end time, not after a step count.
+    let adapt = fracture && sim.model.auto_dt;
     if let Some(f) = st.fracture.as_ref().filter(|_| fracture) {
         let p = &f.params;
         let mut line = format!(
@@ -829,6 +833,9 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         }
         if let Some((_, ns)) = p.cohesion {
             let _ = write!(line, " cohesion {:e} {ns}", plan.cfg.fracture.toughness);
+        }
+        if adapt {
+            let _ = write!(line, " adapt_dt {every}");
         }
         let _ = writeln!(s, "{line}");
     }
@@ -860,11 +867,25 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     let _ = writeln!(
         s,
         "fix             series all print {every} \"{line}\" file {series_file} screen no title \"{}\"\n\
-         thermo          {}\nrun             {}",
+         thermo          {}",
         columns.join(","),
         (plan.steps / 20).max(every),
-        plan.steps
     );
+    if adapt {
+        // Fractum's last step is the first to reach the end time (less a billionth of a
+        // step); the step count bounds a run whose step shortens up to 100-fold.
+        let end_time = plan.loading.end_time();
+        let _ = writeln!(
+            s,
+            "variable        fr_time equal time\n\
+             fix             end all halt 1 v_fr_time >= {:.17e} error continue message no\n\
+             run             {}",
+            end_time - 1e-9 * plan.dt,
+            plan.steps.saturating_mul(100)
+        );
+    } else {
+        let _ = writeln!(s, "run             {}", plan.steps);
+    }
     Ok(s)
 }
 

@@ -111,6 +111,14 @@ const OMEGA_DT_WARN: f64 = 1.6;
 /// The estimated `ω dt` above which a fracture run shortens its step.
 pub const ADAPT_OMEGA_DT: f64 = 0.6;
 
+/// The step a fracture run takes after `dt` (s) when the highest frequency of its contacts is
+/// estimated at `omega` (rad/s): shortened to give `ω dt` = [`ADAPT_OMEGA_DT`] when it is
+/// above that, else `None` (keep `dt`).
+pub fn adapted_step(omega: f64, dt: f64) -> Option<f64> {
+    let omega_dt = omega * dt;
+    (omega_dt > ADAPT_OMEGA_DT).then(|| dt * (ADAPT_OMEGA_DT / omega_dt))
+}
+
 /// The force pipeline of exactly the effects a granular scene names. `friction` overrides
 /// the material's coefficient (sample preparation compacts with its own).
 pub fn pipeline(scene: &Scene, cfg: &GranularScene) -> Pipeline {
@@ -369,11 +377,10 @@ impl Granular {
         if self.state.fracture.is_none() || !self.auto_dt {
             return;
         }
-        let omega_dt = omega * clock.dt;
-        if omega_dt <= ADAPT_OMEGA_DT {
+        let Some(dt) = adapted_step(omega, clock.dt) else {
             return;
-        }
-        clock.dt *= ADAPT_OMEGA_DT / omega_dt;
+        };
+        clock.dt = dt;
         self.state.dt_shortened += 1;
         let end_time = self.state.loading.end_time();
         clock.end_step = clock
@@ -469,6 +476,17 @@ impl Granular {
         );
         if let Some(first) = f.events.first() {
             m.insert("first_split_time".into(), first.time.into());
+            m.insert(
+                "first_split".into(),
+                json!({
+                    "step": first.step,
+                    "time": first.time,
+                    "axis": first.axis,
+                    "criterion": first.criterion,
+                    "semi_plus": first.semi[0],
+                    "semi_minus": first.semi[1],
+                }),
+            );
         }
         let strains = self.report_strains();
         if !strains.is_empty() {
