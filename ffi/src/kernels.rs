@@ -1213,7 +1213,9 @@ pub extern "C" fn fractum_kernel_frequency_share(
     kernel(|| {
         let (law, c, b) = (get(law)?, get(c)?, get(b)?);
         let inertia = Vec3::from(b.inertia);
-        input_if(!(b.mass > 0.0) || inertia.iter().any(|m| !(*m > 0.0)))?;
+        // NaN fails every comparison: refused with the non-positive values.
+        let positive = |v: f64| v > 0.0;
+        input_if(!positive(b.mass) || !inertia.iter().all(|&m| positive(m)))?;
         let tangential = if law.friction != 0 {
             fractum::effects::contact::tangential_ratio(law.eight_g, law.two_e)
         } else {
@@ -1240,7 +1242,8 @@ pub extern "C" fn fractum_kernel_frequency_share(
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_adapted_step(sum: f64, dt: f64, next: *mut f64) -> FractumStatus {
     kernel(|| {
-        input_if(!(sum >= 0.0) || !(dt > 0.0))?;
+        let valid = sum >= 0.0 && dt > 0.0; // false for NaN too
+        input_if(!valid)?;
         let omega = fractum::effects::contact::frequency_bound(sum);
         *get_mut(next)? = fractum::models::granular::adapted_step(omega, dt).unwrap_or(dt);
         Ok(())
