@@ -224,8 +224,14 @@ void FixFractumFracture::setup(int)
   }
   // The forces of the run's first step include the springs' (not advanced here).
   spring_forces(false);
-  // The next step's evaluation sums frequency shares when the step is to be checked then
-  // (also after a restart).
+  // Also after a restart.
+  schedule_frequency();
+}
+
+/* The next step's evaluation sums frequency shares when the step is to be checked then: an
+   output step, or the step that splits the grains found failing. */
+void FixFractumFracture::schedule_frequency()
+{
   if (adapt_every > 0)
     pair->frequency_due = (update->ntimestep + 1) % adapt_every == 0 || !decisions.empty();
 }
@@ -447,7 +453,7 @@ void FixFractumFracture::end_of_step()
     if (split_evaluated || (step % adapt_every == 0 && decisions.empty() && pair->frequency_due))
       adapt_step();
     split_evaluated = false;
-    pair->frequency_due = (step + 1) % adapt_every == 0 || !decisions.empty();
+    schedule_frequency();
   }
 }
 

@@ -88,6 +88,7 @@ class FixFractumFracture : public Fix {
   void spring_forces(bool advance);
   void bond();
   void adapt_step();
+  void schedule_frequency();
   void audit(const FractumBody &parent, const FractumBody &plus, const FractumBody &minus);
 };
 

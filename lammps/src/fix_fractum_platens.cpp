@@ -140,7 +140,7 @@ void FixFractumPlatens::post_force(int)
   double **shape = pair->shape_arr, **quat = pair->quat_arr, **inertia = pair->inertia_arr;
   double **grain = pair->grain_arr;
   const int update_history = update->setupflag ? 0 : 1;
-  const bool keep_memory = update_history || update->ntimestep == 0;
+  const bool keep_memory = fractum_keep_memory(update->setupflag, update->ntimestep);
   FractumBody b;
   FractumPairMemory scratch;
   FractumContact out;
@@ -150,16 +150,10 @@ void FixFractumPlatens::post_force(int)
     fractum_body(atom, shape, quat, inertia, i, b);
     for (int w = 0; w < FACES; w++) {
       if (!active[w]) continue;
-      FractumPairMemory *mem = &scratch;
-      // hist (3), unused (3), held radius: the pair memory layout; kept as the pair keeps its.
+      // hist (3), unused (3), held radius: the pair memory layout, kept as the pair keeps its.
       FractumPairMemory *stored =
           walls ? reinterpret_cast<FractumPairMemory *>(&walls[i][WALL_SLOT * w]) : nullptr;
-      if (stored && keep_memory)
-        mem = stored;
-      else if (stored)
-        scratch = *stored;
-      else
-        std::memset(&scratch, 0, sizeof scratch);
+      FractumPairMemory *mem = fractum_memory(stored, keep_memory, scratch);
       int status = fractum_kernel_wall(&law, &b, normal[w], point[w], velocity[w], mem,
                                        update->dt, update_history, shapes, &out);
       if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "wall", status);

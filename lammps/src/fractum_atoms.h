@@ -111,6 +111,28 @@ inline void fractum_store_body(Atom *atom, double **shape, double **quat, double
   atom->radius[i] = b.radius;
 }
 
+/* Whether an evaluation may change the stored contact memory (held radius, normal, tangential
+   displacement): at every step, and at the setup before the first step (Fractum's first
+   evaluation sets the held radii and normals), but not at the setup of a later run (a second
+   `run` or after `read_restart`), so that a continued run is the uninterrupted one. */
+inline bool fractum_keep_memory(int setup, bigint step)
+{
+  return !setup || step == 0;
+}
+
+/* The memory a contact's kernel call works on: `stored` itself when `keep`, else `scratch`
+   holding a copy of it (zeros without one), thrown away after the call. */
+inline FractumPairMemory *fractum_memory(FractumPairMemory *stored, bool keep,
+                                         FractumPairMemory &scratch)
+{
+  if (stored && keep) return stored;
+  if (stored)
+    scratch = *stored;
+  else
+    scratch = FractumPairMemory{};
+  return &scratch;
+}
+
 /* One sentence for a failed kernel call (never expected: the arguments come from checked
    state). */
 void fractum_kernel_failed(LAMMPS *lmp, const char *style, const char *kernel, int status);

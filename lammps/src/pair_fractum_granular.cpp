@@ -235,10 +235,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
   std::sort(reshaped.begin(), reshaped.end());
   const bool any_reshaped = !reshaped.empty();
   const int update_history = update->setupflag ? 0 : 1;
-  // The evaluation before the first step sets the contacts' held radii and normals as
-  // Fractum's does; the one at the start of a later run (after `run`, or a restart) leaves
-  // them as the last step left them, so that a continued run is the uninterrupted one.
-  const bool keep_memory = update_history || update->ntimestep == 0;
+  const bool keep_memory = fractum_keep_memory(update->setupflag, update->ntimestep);
   const double dt = update->dt;
 
   int inum = list->inum;
@@ -256,15 +253,9 @@ void PairFractumGranular::compute(int eflag, int vflag)
     double *values = firstvalue ? firstvalue[i] : nullptr;
     for (int jj = 0; jj < jnum; jj++) {
       int j = jlist[jj] & NEIGHMASK;
-      FractumPairMemory *mem = &scratch;
       FractumPairMemory *stored =
           values ? reinterpret_cast<FractumPairMemory *>(&values[7 * jj]) : nullptr;
-      if (stored && keep_memory)
-        mem = stored;
-      else if (stored)
-        scratch = *stored;
-      else
-        std::memset(&scratch, 0, sizeof scratch);
+      FractumPairMemory *mem = fractum_memory(stored, keep_memory, scratch);
       // The kernel always sees the lower tag as body A: a contact gives the same bits on
       // whichever rank computes it, whichever atom's list holds it.
       const bool swap = tag[i] > tag[j];
@@ -290,7 +281,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
         dissipated += out.dissipated;
       }
       // Force on i; torques on i and j.
-      Share si;
+      Contribution si;
       si.i = i;
       si.partner = tag[j];
       si.c = out;
@@ -300,7 +291,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
       }
       contributions.push_back(si);
       if (j < nlocal) {
-        Share sj;
+        Contribution sj;
         sj.i = j;
         sj.partner = tag[i];
         sj.c = out;
@@ -315,10 +306,10 @@ void PairFractumGranular::compute(int eflag, int vflag)
   // Each atom sums its contacts in the order of its partners' tags: the same bits on any rank
   // count (the neighbour lists' order depends on the decomposition, and a sum's rounding on
   // its order).
-  std::sort(contributions.begin(), contributions.end(), [](const Share &x, const Share &y) {
+  std::sort(contributions.begin(), contributions.end(), [](const Contribution &x, const Contribution &y) {
     return x.i != y.i ? x.i < y.i : x.partner < y.partner;
   });
-  for (const Share &s : contributions) {
+  for (const Contribution &s : contributions) {
     const int i = s.i;
     for (int k = 0; k < 3; k++) {
       f[i][k] += s.c.force[k];
@@ -336,5 +327,5 @@ double PairFractumGranular::memory_usage()
   return (double) bodies.capacity() * sizeof(FractumBody) +
       (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
       (double) shares.capacity() * sizeof(double) +
-      (double) contributions.capacity() * sizeof(Share);
+      (double) contributions.capacity() * sizeof(Contribution);
 }

@@ -75,12 +75,12 @@ class PairFractumGranular : public Pair {
   class Fix *dummy = nullptr;
   std::vector<FractumBody> bodies;
   /* One contact as one owned atom sees it: force and torque on it (force, torque_a). */
-  struct Share {
+  struct Contribution {
     int i;
     tagint partner;
     FractumContact c;
   };
-  std::vector<Share> contributions;
+  std::vector<Contribution> contributions;
   double maxrad = 0.0;
   void check_history();
 };

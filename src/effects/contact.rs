@@ -614,7 +614,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
 
     fn rebuild_pairs(&mut self, bodies: &Bodies) {
         if self.pairs.skin <= 0.0 {
-            self.pairs.skin = 0.4 * bodies.min_radius();
+            self.pairs.skin = default_skin(bodies);
         }
         let (old_offsets, old_partners) = if FRIC || POLY {
             (
@@ -1209,6 +1209,11 @@ fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential:
         }
     }
     w2.iter().map(|&x| frequency_bound(x)).fold(0.0, f64::max)
+}
+
+/// The neighbour-list skin (m) without a scene's `neighbor.skin`: 0.4 of the smallest radius.
+pub fn default_skin(bodies: &Bodies) -> f64 {
+    0.4 * bodies.min_radius()
 }
 
 /// One contact's share of a body's squared-frequency estimate (rad²/s², before doubling): a

