@@ -382,10 +382,15 @@ impl Granular {
         };
         clock.dt = dt;
         self.state.dt_shortened += 1;
-        let end_time = self.state.loading.end_time();
-        clock.end_step = clock
-            .step
-            .saturating_add(end_step((end_time - clock.time).max(0.0), clock.dt));
+        // The run still ends at the end time: the remaining time in steps of the new length,
+        // none once the end time is reached (a shortening at the last step used to add one
+        // step, and another at that one another: runs overran their end strain).
+        let remaining = self.state.loading.end_time() - clock.time;
+        clock.end_step = if remaining > 1e-9 * clock.dt {
+            clock.step.saturating_add(end_step(remaining, clock.dt))
+        } else {
+            clock.step
+        };
     }
 
     /// Velocity Verlet is stable while `ω dt < 2` for the highest frequency ω of the system.
