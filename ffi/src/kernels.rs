@@ -20,7 +20,8 @@ use fractum::contact::hertz_mindlin::{
     ContactForce, Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
 };
 use fractum::effects::contact::{
-    BodyView, ContactBody, PairMemory, PairOut, pair_contact, wall_contact,
+    BodyView, ContactBody, PairMemory, PairOut, bound_off_wall, bounds_apart, forget, pair_contact,
+    wall_contact,
 };
 use fractum::fracture::break_plane::{self, Trigger};
 use fractum::fracture::cohesion::{self, Demand, Spring};
@@ -604,9 +605,24 @@ pub extern "C" fn fractum_kernel_pair(
 ) -> FractumStatus {
     kernel(|| {
         let law = get(law)?;
-        let (a, b) = (body_in(get(a)?)?, body_in(get(b)?)?);
+        let (a, b) = (get(a)?, get(b)?);
         let memory = get_mut(memory)?;
         let out = get_mut(out)?;
+        // Most candidates of a neighbour list do not touch: the library's bounding test first,
+        // before the bodies are built.
+        if bounds_apart(&Vec3::from(a.pos), a.radius, &Vec3::from(b.pos), b.radius) {
+            let mut hist = Vec3::from(memory.hist);
+            forget(
+                &mut hist,
+                &mut memory.radius,
+                law.friction != 0,
+                shapes != 0,
+            );
+            memory.hist = hist.into();
+            *out = contact_out(None);
+            return Ok(());
+        }
+        let (a, b) = (body_in(a)?, body_in(b)?);
         let k = consts(law);
         let (va, vb) = (BodyView::new(&a), BodyView::new(&b));
         let mut hist = Vec3::from(memory.hist);
@@ -652,7 +668,7 @@ pub extern "C" fn fractum_kernel_wall(
 ) -> FractumStatus {
     kernel(|| {
         let law = get(law)?;
-        let a = body_in(get(a)?)?;
+        let a = get(a)?;
         let (n, p, w) = (
             vec3_at(wall_normal)?,
             vec3_at(wall_point)?,
@@ -660,6 +676,19 @@ pub extern "C" fn fractum_kernel_wall(
         );
         let memory = get_mut(memory)?;
         let out = get_mut(out)?;
+        if bound_off_wall(&Vec3::from(a.pos), a.radius, &n, &p) {
+            let mut hist = Vec3::from(memory.hist);
+            forget(
+                &mut hist,
+                &mut memory.radius,
+                law.friction != 0,
+                shapes != 0,
+            );
+            memory.hist = hist.into();
+            *out = contact_out(None);
+            return Ok(());
+        }
+        let a = body_in(a)?;
         let k = consts(law);
         let va = BodyView::new(&a);
         let mut hist = Vec3::from(memory.hist);

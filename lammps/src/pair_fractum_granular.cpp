@@ -306,10 +306,27 @@ void PairFractumGranular::compute(int eflag, int vflag)
   // Each atom sums its contacts in the order of its partners' tags: the same bits on any rank
   // count (the neighbour lists' order depends on the decomposition, and a sum's rounding on
   // its order).
-  std::sort(contributions.begin(), contributions.end(), [](const Contribution &x, const Contribution &y) {
-    return x.i != y.i ? x.i < y.i : x.partner < y.partner;
-  });
-  for (const Contribution &s : contributions) {
+  // Atoms in index order (a counting sort), partners in tag order within each atom (a few
+  // contacts each: insertion sort).
+  first.assign(nlocal + 1, 0);
+  for (const Contribution &s : contributions) first[s.i + 1]++;
+  for (int i = 0; i < nlocal; i++) first[i + 1] += first[i];
+  order.resize(contributions.size());
+  {
+    std::vector<int> &next = scratch_next;
+    next.assign(first.begin(), first.end() - 1);
+    for (size_t n = 0; n < contributions.size(); n++) order[next[contributions[n].i]++] = (int) n;
+  }
+  for (int i = 0; i < nlocal; i++)
+    for (int k = first[i] + 1; k < first[i + 1]; k++) {
+      const int moving = order[k];
+      const tagint key = contributions[moving].partner;
+      int m = k;
+      for (; m > first[i] && contributions[order[m - 1]].partner > key; m--) order[m] = order[m - 1];
+      order[m] = moving;
+    }
+  for (const int o : order) {
+    const Contribution &s = contributions[o];
     const int i = s.i;
     for (int k = 0; k < 3; k++) {
       f[i][k] += s.c.force[k];
@@ -327,5 +344,6 @@ double PairFractumGranular::memory_usage()
   return (double) bodies.capacity() * sizeof(FractumBody) +
       (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
       (double) shares.capacity() * sizeof(double) +
-      (double) contributions.capacity() * sizeof(Contribution);
+      (double) contributions.capacity() * sizeof(Contribution) +
+      (double) (order.capacity() + first.capacity() + scratch_next.capacity()) * sizeof(int);
 }

@@ -409,19 +409,14 @@ pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
     dt: f64,
     update: bool,
 ) -> Option<PairOut> {
+    if bounds_apart(&a.pos(), a.radius(), &b.pos(), b.radius()) {
+        forget(hist, &mut memory.radius, FRIC, POLY);
+        return None;
+    }
     let d = a.pos() - b.pos();
     let (ri, rj) = (a.radius(), b.radius());
     let rsum = ri + rj;
     let r2 = d.norm_squared();
-    if r2 >= rsum * rsum {
-        if FRIC {
-            *hist = Vec3::zeros();
-        }
-        if POLY {
-            memory.radius = 0.0;
-        }
-        return None;
-    }
     let m_eff = if DAMP {
         let (mi, mj) = (a.mass(), b.mass());
         mi * mj / (mi + mj)
@@ -435,10 +430,7 @@ pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
             memory.normal
         };
         let Some(g) = convex::contact(&a.placed(), &b.placed(), &guess) else {
-            if FRIC {
-                *hist = Vec3::zeros();
-            }
-            memory.radius = 0.0;
+            forget(hist, &mut memory.radius, FRIC, POLY);
             return None;
         };
         memory.normal = g.normal;
@@ -482,6 +474,37 @@ pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
     })
 }
 
+/// True when the bounding spheres of bodies at `pa` and `pb` (radii `ra`, `rb`, m) do not
+/// overlap: then [`pair_contact`] finds no contact and only [`forget`]s. Hosts that call the
+/// kernels per candidate (the C ABI) test this first and skip the rest.
+#[inline(always)]
+pub fn bounds_apart(pa: &Vec3, ra: f64, pb: &Vec3, rb: f64) -> bool {
+    let rsum = ra + rb;
+    (pa - pb).norm_squared() >= rsum * rsum
+}
+
+/// True when the bounding sphere of a body at `pos` (radius `r`, m) does not reach the wall
+/// through `wall_point` of unit normal `wall_normal`: then [`wall_contact`] finds no contact
+/// and only [`forget`]s (a poly-ellipsoid lies inside its bounding sphere; for a sphere it is
+/// the overlap test itself).
+#[inline(always)]
+pub fn bound_off_wall(pos: &Vec3, r: f64, wall_normal: &Vec3, wall_point: &Vec3) -> bool {
+    plane_distance(wall_point, wall_normal, pos) >= r
+}
+
+/// What a pair (or a body and a wall) forgets when they do not touch: the tangential
+/// displacement `hist` (with friction) and the held Hertz radius (with poly-ellipsoids). The
+/// last normal is kept: it warm-starts the next contact search.
+#[inline(always)]
+pub fn forget(hist: &mut Vec3, held_radius: &mut f64, friction: bool, poly: bool) {
+    if friction {
+        *hist = Vec3::zeros();
+    }
+    if poly {
+        *held_radius = 0.0;
+    }
+}
+
 /// The force of the wall through `wall_point` (unit normal `wall_normal` into the bodies'
 /// side, moving at `wall_velocity`) on body a, or None when they do not touch: the
 /// per-candidate kernel of the contact effect's wall loop (with `POLY` a poly-ellipsoid's
@@ -514,12 +537,7 @@ pub fn wall_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
         (n * (delta - r), delta, r)
     };
     if delta <= 0.0 {
-        if FRIC {
-            *hist = Vec3::zeros();
-        }
-        if POLY {
-            *held = 0.0;
-        }
+        forget(hist, held, FRIC, POLY);
         return None;
     }
     let mut v = a.vel() - wall_velocity;
