@@ -754,6 +754,26 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
          \x20               fix frinertia NULL FractumInertia fix frgrain NULL FractumGrain\n",
         21 * plan.cfg.fracture.springs.max(1)
     );
+    if !st.walls.is_empty() {
+        // LAMMPS drops an atom whose centre leaves a fixed boundary: a grain pressed into a
+        // wall, or a half made at a split there, can have its centre beyond the wall plane (the
+        // main job on 2 ranks stopped at 0.39 strain: "a half lies outside the simulation
+        // box"), and pieces between two platens fly off sideways. The domain grows; the walls
+        // stay where fix fractum/platens puts them.
+        let b = &st.bodies;
+        let rmax = b.radius.iter().fold(0.0, |m: f64, &r| m.max(r));
+        let margin = if st.walls.is_box {
+            rmax
+        } else {
+            let (lo, hi) = bounds(b, &st.walls);
+            (hi - lo).max() + rmax
+        };
+        let _ = writeln!(
+            s,
+            "change_box      all x delta {lo:e} {margin:e} y delta {lo:e} {margin:e} z delta {lo:e} {margin:e} units box",
+            lo = -margin
+        );
+    }
     let mut coeff = format!("young {:e} poisson {:e}", m.young, m.poisson());
     if plan.has(EffectKind::Damping) {
         let _ = write!(coeff, " restitution {:e}", m.restitution);
