@@ -394,6 +394,25 @@ fn consts(law: &FractumContactLaw) -> KernelConsts {
     }
 }
 
+/// A candidate the library's bounding test rejects: it forgets what the library's kernel
+/// would forget ([`forget`]) and touches nothing.
+fn no_contact(
+    law: &FractumContactLaw,
+    shapes: i32,
+    memory: &mut FractumPairMemory,
+    out: &mut FractumContact,
+) {
+    let mut hist = Vec3::from(memory.hist);
+    forget(
+        &mut hist,
+        &mut memory.radius,
+        law.friction != 0,
+        shapes != 0,
+    );
+    memory.hist = hist.into();
+    *out = contact_out(None);
+}
+
 fn contact_out(p: Option<PairOut>) -> FractumContact {
     match p {
         None => FractumContact::default(),
@@ -611,15 +630,7 @@ pub extern "C" fn fractum_kernel_pair(
         // Most candidates of a neighbour list do not touch: the library's bounding test first,
         // before the bodies are built.
         if bounds_apart(&Vec3::from(a.pos), a.radius, &Vec3::from(b.pos), b.radius) {
-            let mut hist = Vec3::from(memory.hist);
-            forget(
-                &mut hist,
-                &mut memory.radius,
-                law.friction != 0,
-                shapes != 0,
-            );
-            memory.hist = hist.into();
-            *out = contact_out(None);
+            no_contact(law, shapes, memory, out);
             return Ok(());
         }
         let (a, b) = (body_in(a)?, body_in(b)?);
@@ -677,15 +688,7 @@ pub extern "C" fn fractum_kernel_wall(
         let memory = get_mut(memory)?;
         let out = get_mut(out)?;
         if bound_off_wall(&Vec3::from(a.pos), a.radius, &n, &p) {
-            let mut hist = Vec3::from(memory.hist);
-            forget(
-                &mut hist,
-                &mut memory.radius,
-                law.friction != 0,
-                shapes != 0,
-            );
-            memory.hist = hist.into();
-            *out = contact_out(None);
+            no_contact(law, shapes, memory, out);
             return Ok(());
         }
         let a = body_in(a)?;
