@@ -1,7 +1,7 @@
 //! Runs a model's run to its end, writing outputs on the way: what `fractum run` and
 //! `fractum resume` do, as a library function.
 
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::output::OutputDir;
 use crate::run::Run;
 
@@ -23,6 +23,12 @@ pub fn run_to_end(
     options: RunOptions,
     progress: &mut dyn FnMut(&dyn Run),
 ) -> Result<()> {
+    if options.checkpoint_every == Some(0) {
+        return Err(Error::input(
+            "checkpoint_every",
+            "0 is outside the allowed range: a checkpoint every N steps, N at least 1",
+        ));
+    }
     let started = std::time::Instant::now();
     let vtk = run.scene().output.vtk;
     let report_every = (run.end_step() / 400).clamp(1, 2000);

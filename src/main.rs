@@ -107,6 +107,19 @@ struct RunArgs {
     checkpoint_every: Option<u64>,
 }
 
+impl RunArgs {
+    /// The options' own ranges, checked before anything is built or written.
+    fn check(&self) -> Result<(), Error> {
+        if self.checkpoint_every == Some(0) {
+            return Err(Error::input(
+                "--checkpoint-every",
+                "0 is outside the allowed range: N is a number of steps, at least 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     match dispatch(cli.command) {
@@ -126,6 +139,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             set,
             options,
         } => {
+            options.check()?;
             let scene = Scene::load(&scene, &set)?;
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
             let say = messenger(options.quiet);
@@ -139,6 +153,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             out,
             options,
         } => {
+            options.check()?;
             let (sim, frames) = fractum::models::resume(&path, options.threads)?;
             messenger(options.quiet)(&format!(
                 "{}: resuming at step {} of {}",

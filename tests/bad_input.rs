@@ -106,6 +106,33 @@ fn missing_scene_file() {
 }
 
 #[test]
+fn checkpoint_every_zero_is_refused_before_anything_is_written() {
+    // It divided by zero in the driver (a panic and a partial output folder).
+    let (dir, file) = common::scene_file(&base());
+    let out = dir.path().join("out");
+    let o = common::fractum(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--checkpoint-every",
+            "0",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("--checkpoint-every") && stderr.contains("at least 1"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}
+
+#[test]
 fn missing_packing_file() {
     let t = replace(
         &base(),
