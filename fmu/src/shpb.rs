@@ -78,7 +78,6 @@ impl Default for Variables {
     }
 }
 
-/// One SHPB specimen: the variables, and the simulation once initialisation has built it.
 /// The outputs at one instant: face stresses (Pa, compression positive), axial strain,
 /// kinetic energy (J) and broken grains.
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
@@ -119,6 +118,8 @@ impl Sample {
     }
 }
 
+/// One SHPB specimen: the variables, and the simulation once initialisation has built it.
+///
 /// The specimen advances on its own grid of whole steps, whatever the communication steps: a
 /// master that steps by 1 µs and one that steps by 10 µs drive the very same trajectory, and
 /// their outputs at a common time are the same bits (a fracture run is chaotic: the landing
@@ -138,6 +139,8 @@ pub struct Shpb {
     out: Sample,
 }
 
+/// What a saved FMU state holds of the model: the variables, the simulation's own saved
+/// state and the outputs.
 #[derive(Serialize, Deserialize)]
 pub struct Saved {
     vars: Variables,
