@@ -12,6 +12,19 @@ pub struct RunOptions {
     pub checkpoint_every: Option<u64>,
 }
 
+impl RunOptions {
+    /// The options' ranges (the CLI checks them before it builds or writes anything).
+    pub fn check(&self) -> Result<()> {
+        if self.checkpoint_every == Some(0) {
+            return Err(Error::input(
+                "--checkpoint-every",
+                "0 is outside the allowed range: N is a number of steps, at least 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
 fn next_multiple(step: u64, every: u64) -> u64 {
     (step / every + 1) * every
 }
@@ -23,12 +36,7 @@ pub fn run_to_end(
     options: RunOptions,
     progress: &mut dyn FnMut(&dyn Run),
 ) -> Result<()> {
-    if options.checkpoint_every == Some(0) {
-        return Err(Error::input(
-            "checkpoint_every",
-            "0 is outside the allowed range: a checkpoint every N steps, N at least 1",
-        ));
-    }
+    options.check()?;
     let started = std::time::Instant::now();
     let vtk = run.scene().output.vtk;
     let report_every = (run.end_step() / 400).clamp(1, 2000);

@@ -108,15 +108,10 @@ struct RunArgs {
 }
 
 impl RunArgs {
-    /// The options' own ranges, checked before anything is built or written.
-    fn check(&self) -> Result<(), Error> {
-        if self.checkpoint_every == Some(0) {
-            return Err(Error::input(
-                "--checkpoint-every",
-                "0 is outside the allowed range: N is a number of steps, at least 1",
-            ));
+    fn run_options(&self) -> RunOptions {
+        RunOptions {
+            checkpoint_every: self.checkpoint_every,
         }
-        Ok(())
     }
 }
 
@@ -139,7 +134,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             set,
             options,
         } => {
-            options.check()?;
+            options.run_options().check()?;
             let scene = Scene::load(&scene, &set)?;
             let out = out.unwrap_or_else(|| PathBuf::from("out").join(&scene.name));
             let say = messenger(options.quiet);
@@ -153,7 +148,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             out,
             options,
         } => {
-            options.check()?;
+            options.run_options().check()?;
             let (sim, frames) = fractum::models::resume(&path, options.threads)?;
             messenger(options.quiet)(&format!(
                 "{}: resuming at step {} of {}",
@@ -244,9 +239,7 @@ fn run(
         bar.set_position(sim.step());
         bar
     });
-    let options = RunOptions {
-        checkpoint_every: args.checkpoint_every,
-    };
+    let options = args.run_options();
     let mut warned = sim.warnings().len();
     let result = run_to_end(sim.as_mut(), &mut dir, options, &mut |s| {
         for w in &s.warnings()[warned..] {

@@ -761,12 +761,11 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         // box"), and pieces between two platens fly off sideways. The domain grows; the walls
         // stay where fix fractum/platens puts them.
         let b = &st.bodies;
-        let rmax = b.radius.iter().fold(0.0, |m: f64, &r| m.max(r));
         let margin = if st.walls.is_box {
-            rmax
+            b.max_radius()
         } else {
             let (lo, hi) = bounds(b, &st.walls);
-            (hi - lo).max() + rmax
+            (hi - lo).max() + b.max_radius()
         };
         let _ = writeln!(
             s,
