@@ -61,7 +61,7 @@ def run_fractum(box_mm, strain, threads, work):
 def export(box_mm, strain, work):
     d = os.path.join(work, f"lammps_{box_mm}")
     started = time.time()
-    subprocess.run([FRACTUM, "export", "lammps", SCENE, d, "--plugin"] + sets(box_mm, strain)[:4], check=True,
+    subprocess.run([FRACTUM, "export", "lammps", SCENE, d, "--plugin"] + sets(box_mm, strain), check=True,
                    capture_output=True)
     return d, time.time() - started
 
@@ -97,10 +97,10 @@ def main():
                     rows.append((box, code, c, r, rate))
                     print(f"  {code} on {c}: {r['steps']} steps, {r['seconds']:.2f} s, {rate:.3e} particle-steps/s",
                           file=sys.stderr)
-    print(f"| box | code | cores | steps to {a.strain:g} strain | bodies start→end (mean) | wall s | particle-steps/s |")
+    print(f"| box | code | cores | steps to {a.strain:g} strain | bodies at the end (mean over the window) | wall s | particle-steps/s |")
     print("|---:|---|---:|---:|---|---:|---:|")
     for box, code, c, r, rate in rows:
-        print(f"| {box:g} mm | {code} | {c} | {r['steps']} | →{r['bodies_end']} ({r['bodies_mean']:.0f}) | {r['seconds']:.2f} | {rate:.3e} |")
+        print(f"| {box:g} mm | {code} | {c} | {r['steps']} | {r['bodies_end']} ({r['bodies_mean']:.0f}) | {r['seconds']:.2f} | {rate:.3e} |")
     print()
     for box in sorted({r[0] for r in rows}):
         by = {(code, c): rate for b, code, c, _, rate in rows if b == box}

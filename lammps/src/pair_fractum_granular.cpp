@@ -312,11 +312,8 @@ void PairFractumGranular::compute(int eflag, int vflag)
   for (const Contribution &s : contributions) first[s.i + 1]++;
   for (int i = 0; i < nlocal; i++) first[i + 1] += first[i];
   order.resize(contributions.size());
-  {
-    std::vector<int> &next = scratch_next;
-    next.assign(first.begin(), first.end() - 1);
-    for (size_t n = 0; n < contributions.size(); n++) order[next[contributions[n].i]++] = (int) n;
-  }
+  cursor.assign(first.begin(), first.end() - 1);
+  for (size_t n = 0; n < contributions.size(); n++) order[cursor[contributions[n].i]++] = (int) n;
   for (int i = 0; i < nlocal; i++)
     for (int k = first[i] + 1; k < first[i + 1]; k++) {
       const int moving = order[k];
@@ -345,5 +342,5 @@ double PairFractumGranular::memory_usage()
       (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
       (double) shares.capacity() * sizeof(double) +
       (double) contributions.capacity() * sizeof(Contribution) +
-      (double) (order.capacity() + first.capacity() + scratch_next.capacity()) * sizeof(int);
+      (double) (order.capacity() + first.capacity() + cursor.capacity()) * sizeof(int);
 }

@@ -81,9 +81,10 @@ class PairFractumGranular : public Pair {
     FractumContact c;
   };
   std::vector<Contribution> contributions;
-  // Indices into contributions, grouped by atom (counting sort) and by partner tag within an
-  // atom: sorted instead of the contributions themselves, which are ten times larger.
-  std::vector<int> order, first, scratch_next;
+  // Indices into contributions, grouped by atom (counting sort: each atom's first slot and a
+  // cursor per atom) and by partner tag within an atom: sorted instead of the contributions
+  // themselves, which are ten times larger.
+  std::vector<int> order, first, cursor;
   double maxrad = 0.0;
   void check_history();
 };
