@@ -136,6 +136,15 @@ typedef struct FractumPairMemory {
   double radius;
 } FractumPairMemory;
 
+// Where a body's shape sits in the world for one force evaluation: the octant origin (m)
+// and the rotation from the shape frame to the world, row by row (its columns are the shape
+// frame's x, y and z axes in world coordinates). `fractum_kernel_placement` computes it; a sphere's is
+// not read.
+typedef struct FractumPlacement {
+  double origin[3];
+  double rot[9];
+} FractumPlacement;
+
 // Grain fracture constants (FractureParams, resolved).
 typedef struct FractumFractureLaw {
   // Hoek-Brown m_i (dimensionless).
@@ -441,6 +450,27 @@ enum FractumStatus fractum_kernel_pair(const struct FractumContactLaw *law,
                                        int32_t update,
                                        int32_t shapes,
                                        struct FractumContact *out);
+
+// `fractum_kernel_pair` with the bodies' placements given (`pa`, `pb`, as
+// `fractum_kernel_placement` computes them for `a` and `b` now), as the run places every body
+// once per force evaluation instead of once per pair: a caller with many pairs per body
+// places each body once. The same bits as `fractum_kernel_pair` with those placements; a
+// placement that is not the body's gives the contact of the body so placed.
+enum FractumStatus fractum_kernel_pair_placed(const struct FractumContactLaw *law,
+                                              const struct FractumBody *a,
+                                              const struct FractumPlacement *pa,
+                                              const struct FractumBody *b,
+                                              const struct FractumPlacement *pb,
+                                              struct FractumPairMemory *memory,
+                                              double dt,
+                                              int32_t update,
+                                              int32_t shapes,
+                                              struct FractumContact *out);
+
+// Where Fractum places body `b`'s shape in the world for a force evaluation
+// (`Placement::of`): for `fractum_kernel_pair_placed`.
+enum FractumStatus fractum_kernel_placement(const struct FractumBody *b,
+                                            struct FractumPlacement *out);
 
 // The contact of body `a` with the wall through `wall_point` (3 doubles, m) of unit normal
 // `wall_normal` (3 doubles, into the bodies' side) moving at `wall_velocity` (3 doubles,

@@ -20,8 +20,8 @@ use fractum::contact::hertz_mindlin::{
     ContactForce, Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
 };
 use fractum::effects::contact::{
-    BodyView, ContactBody, PairMemory, PairOut, bound_off_wall, bounds_apart, forget, pair_contact,
-    wall_contact,
+    BodyView, ContactBody, PairMemory, PairOut, Placement, bound_off_wall, bounds_apart, forget,
+    pair_contact, wall_contact,
 };
 use fractum::fracture::break_plane::{self, Trigger};
 use fractum::fracture::cohesion::{self, Demand, Spring};
@@ -98,6 +98,17 @@ pub struct FractumPairMemory {
     pub normal: [f64; 3],
     /// Held Hertz radius (m), 0 while not touching.
     pub radius: f64,
+}
+
+/// Where a body's shape sits in the world for one force evaluation: the octant origin (m)
+/// and the rotation from the shape frame to the world, row by row (its columns are the shape
+/// frame's x, y and z axes in world coordinates). `fractum_kernel_placement` computes it; a sphere's is
+/// not read.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FractumPlacement {
+    pub origin: [f64; 3],
+    pub rot: [f64; 9],
 }
 
 /// Geometry of one contact.
@@ -622,39 +633,122 @@ pub extern "C" fn fractum_kernel_pair(
     shapes: i32,
     out: *mut FractumContact,
 ) -> FractumStatus {
+    kernel(|| pair_in(law, a, None, b, None, memory, dt, update, shapes, out))
+}
+
+/// `fractum_kernel_pair` with the bodies' placements given (`pa`, `pb`, as
+/// `fractum_kernel_placement` computes them for `a` and `b` now), as the run places every body
+/// once per force evaluation instead of once per pair: a caller with many pairs per body
+/// places each body once. The same bits as `fractum_kernel_pair` with those placements; a
+/// placement that is not the body's gives the contact of the body so placed.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub extern "C" fn fractum_kernel_pair_placed(
+    law: *const FractumContactLaw,
+    a: *const FractumBody,
+    pa: *const FractumPlacement,
+    b: *const FractumBody,
+    pb: *const FractumPlacement,
+    memory: *mut FractumPairMemory,
+    dt: f64,
+    update: i32,
+    shapes: i32,
+    out: *mut FractumContact,
+) -> FractumStatus {
     kernel(|| {
-        let law = get(law)?;
-        let (a, b) = (get(a)?, get(b)?);
-        let memory = get_mut(memory)?;
+        let (pa, pb) = (get(pa)?, get(pb)?);
+        pair_in(
+            law,
+            a,
+            Some(pa),
+            b,
+            Some(pb),
+            memory,
+            dt,
+            update,
+            shapes,
+            out,
+        )
+    })
+}
+
+/// Where Fractum places body `b`'s shape in the world for a force evaluation
+/// (`Placement::of`): for `fractum_kernel_pair_placed`.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_placement(
+    b: *const FractumBody,
+    out: *mut FractumPlacement,
+) -> FractumStatus {
+    kernel(|| {
+        let b = body_in(get(b)?)?;
         let out = get_mut(out)?;
-        // Most candidates of a neighbour list do not touch: the library's bounding test first,
-        // before the bodies are built.
-        if bounds_apart(&Vec3::from(a.pos), a.radius, &Vec3::from(b.pos), b.radius) {
-            no_contact(law, shapes, memory, out);
-            return Ok(());
-        }
-        let (a, b) = (body_in(a)?, body_in(b)?);
-        let k = consts(law);
-        let (va, vb) = (BodyView::new(&a), BodyView::new(&b));
-        let mut hist = Vec3::from(memory.hist);
-        let mut m = PairMemory {
-            normal: Vec3::from(memory.normal),
-            radius: memory.radius,
+        let p = Placement::of(&b.pos, &b.orientation, &b.shape);
+        *out = FractumPlacement {
+            origin: p.origin.into(),
+            rot: matrix_out(&p.rot),
         };
-        let p = variants!(
-            law.damp != 0,
-            law.friction != 0,
-            shapes != 0,
-            pair_contact(&k, &va, &vb, &mut hist, &mut m, dt, update != 0)
-        );
-        *memory = FractumPairMemory {
-            hist: hist.into(),
-            normal: m.normal.into(),
-            radius: m.radius,
-        };
-        *out = contact_out(p);
         Ok(())
     })
+}
+
+fn placement_in(p: &FractumPlacement) -> Placement {
+    Placement {
+        origin: Vec3::from(p.origin),
+        rot: matrix(&p.rot),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn pair_in(
+    law: *const FractumContactLaw,
+    a: *const FractumBody,
+    pa: Option<&FractumPlacement>,
+    b: *const FractumBody,
+    pb: Option<&FractumPlacement>,
+    memory: *mut FractumPairMemory,
+    dt: f64,
+    update: i32,
+    shapes: i32,
+    out: *mut FractumContact,
+) -> KResult {
+    let law = get(law)?;
+    let (a, b) = (get(a)?, get(b)?);
+    let memory = get_mut(memory)?;
+    let out = get_mut(out)?;
+    // Most candidates of a neighbour list do not touch: the library's bounding test first,
+    // before the bodies are built.
+    if bounds_apart(&Vec3::from(a.pos), a.radius, &Vec3::from(b.pos), b.radius) {
+        no_contact(law, shapes, memory, out);
+        return Ok(());
+    }
+    let (a, b) = (body_in(a)?, body_in(b)?);
+    let k = consts(law);
+    let view = |body, given: Option<&FractumPlacement>| match given {
+        Some(p) => BodyView {
+            body,
+            placement: placement_in(p),
+        },
+        None => BodyView::new(body),
+    };
+    let (va, vb) = (view(&a, pa), view(&b, pb));
+    let mut hist = Vec3::from(memory.hist);
+    let mut m = PairMemory {
+        normal: Vec3::from(memory.normal),
+        radius: memory.radius,
+    };
+    let p = variants!(
+        law.damp != 0,
+        law.friction != 0,
+        shapes != 0,
+        pair_contact(&k, &va, &vb, &mut hist, &mut m, dt, update != 0)
+    );
+    *memory = FractumPairMemory {
+        hist: hist.into(),
+        normal: m.normal.into(),
+        radius: m.radius,
+    };
+    *out = contact_out(p);
+    Ok(())
 }
 
 /// The contact of body `a` with the wall through `wall_point` (3 doubles, m) of unit normal
@@ -1678,6 +1772,7 @@ mod tests {
                         pair_contact(&k, &at(0), &at(1), &mut hist, &mut memory, dt, update)
                     );
                     let mut out = FractumContact::default();
+                    let placed_before = mem;
                     let s = fractum_kernel_pair(
                         &law,
                         &fb(&a),
@@ -1690,9 +1785,39 @@ mod tests {
                     );
                     assert_eq!(s, FRACTUM_OK);
                     same_contact(&out, &p);
-                    assert_eq!(bits(&mem.hist), vb(&hist));
-                    assert_eq!(bits(&mem.normal), vb(&memory.normal));
-                    assert_eq!(mem.radius.to_bits(), memory.radius.to_bits());
+                    // Placed once per body, as a caller with many pairs does: the same bits,
+                    // and the placement is the run's.
+                    let (mut pa, mut pb) =
+                        (FractumPlacement::default(), FractumPlacement::default());
+                    assert_eq!(fractum_kernel_placement(&fb(&a), &mut pa), FRACTUM_OK);
+                    assert_eq!(fractum_kernel_placement(&fb(&b), &mut pb), FRACTUM_OK);
+                    for (given, run) in [(&pa, &placements.first()), (&pb, &placements.get(1))] {
+                        if let Some(run) = run {
+                            assert_eq!(bits(&given.origin), vb(&run.origin));
+                            assert_eq!(bits(&given.rot), bits(&matrix_out(&run.rot)));
+                        }
+                    }
+                    let mut placed = FractumContact::default();
+                    let mut placed_mem = placed_before;
+                    let s = fractum_kernel_pair_placed(
+                        &law,
+                        &fb(&a),
+                        &pa,
+                        &fb(&b),
+                        &pb,
+                        &mut placed_mem,
+                        dt,
+                        i32::from(update),
+                        i32::from(poly),
+                        &mut placed,
+                    );
+                    assert_eq!(s, FRACTUM_OK);
+                    same_contact(&placed, &p);
+                    for m in [&mem, &placed_mem] {
+                        assert_eq!(bits(&m.hist), vb(&hist));
+                        assert_eq!(bits(&m.normal), vb(&memory.normal));
+                        assert_eq!(m.radius.to_bits(), memory.radius.to_bits());
+                    }
                     touching[usize::from(sa && sb)] += usize::from(p.is_some());
                     a.pos += a.vel * 1e-5;
                     b.pos += b.vel * 1e-5;
@@ -2362,6 +2487,29 @@ mod tests {
         assert_eq!(s, FRACTUM_ERR_INPUT);
         let s = fractum_kernel_pair(&law, &sphere, &bad, &mut mem, 1e-8, 1, 1, &mut c);
         assert_eq!(s, FRACTUM_ERR_INPUT);
+        let mut place = FractumPlacement::default();
+        assert_eq!(
+            fractum_kernel_placement(&bad, &mut place),
+            FRACTUM_ERR_INPUT
+        );
+        assert_eq!(
+            fractum_kernel_placement(&poly, null_mut()),
+            FRACTUM_ERR_NULL
+        );
+        assert_eq!(fractum_kernel_placement(&poly, &mut place), FRACTUM_OK);
+        let s = fractum_kernel_pair_placed(
+            &law,
+            &sphere,
+            null(),
+            &poly,
+            &place,
+            &mut mem,
+            1e-8,
+            1,
+            1,
+            &mut c,
+        );
+        assert_eq!(s, FRACTUM_ERR_NULL);
         let s = fractum_kernel_wall(&law, &poly, p, p, null(), &mut mem, 1e-8, 1, 1, &mut c);
         assert_eq!(s, FRACTUM_ERR_NULL);
         let s = fractum_kernel_wall(&law, &bad, p, p, p, &mut mem, 1e-8, 1, 1, &mut c);

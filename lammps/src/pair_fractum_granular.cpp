@@ -223,6 +223,15 @@ void PairFractumGranular::compute(int eflag, int vflag)
   bodies.resize(nall);
   for (int i = 0; i < nall; i++)
     fractum_body(atom, shape_arr, quat_arr, inertia_arr, i, bodies[i]);
+  // Each body placed once per evaluation, as Fractum's own contact loop places them (a few
+  // pairs per body would otherwise place it a few times).
+  if (shapes) {
+    places.resize(nall);
+    for (int i = 0; i < nall; i++) {
+      int status = fractum_kernel_placement(&bodies[i], &places[i]);
+      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "placement", status);
+    }
+  }
   if (history && neighbor->ago == 0) check_history();
   if (recording) {
     moment.assign(9 * (size_t) nlocal, 0.0);
@@ -264,8 +273,11 @@ void PairFractumGranular::compute(int eflag, int vflag)
           (std::binary_search(reshaped.begin(), reshaped.end(), tag[a]) ||
            std::binary_search(reshaped.begin(), reshaped.end(), tag[b])))
         mem->radius = 0.0;
-      int status = fractum_kernel_pair(&law, &bodies[a], &bodies[b], mem, dt, update_history,
-                                       shapes, &out);
+      int status = shapes ? fractum_kernel_pair_placed(&law, &bodies[a], &places[a], &bodies[b],
+                                                       &places[b], mem, dt, update_history,
+                                                       shapes, &out)
+                          : fractum_kernel_pair(&law, &bodies[a], &bodies[b], mem, dt,
+                                                update_history, shapes, &out);
       if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "pair", status);
       if (touch) {
         const double *v = reinterpret_cast<const double *>(stored);
@@ -284,22 +296,24 @@ void PairFractumGranular::compute(int eflag, int vflag)
       Contribution si;
       si.i = i;
       si.partner = tag[j];
-      si.c = out;
       for (int k = 0; k < 3; k++) {
-        si.c.force[k] = swap ? -out.force[k] : out.force[k];
-        si.c.torque_a[k] = swap ? out.torque_b[k] : out.torque_a[k];
+        si.force[k] = swap ? -out.force[k] : out.force[k];
+        si.torque[k] = swap ? out.torque_b[k] : out.torque_a[k];
+        si.point[k] = out.point[k];
+        si.normal[k] = out.normal[k];
       }
+      si.normal_force = out.normal_force;
+      si.radius = out.radius;
+      si.stiffness = out.stiffness;
       contributions.push_back(si);
       if (j < nlocal) {
-        Contribution sj;
+        Contribution &sj = contributions.emplace_back(si);
         sj.i = j;
         sj.partner = tag[i];
-        sj.c = out;
         for (int k = 0; k < 3; k++) {
-          sj.c.force[k] = -si.c.force[k];
-          sj.c.torque_a[k] = swap ? out.torque_a[k] : out.torque_b[k];
+          sj.force[k] = -si.force[k];
+          sj.torque[k] = swap ? out.torque_a[k] : out.torque_b[k];
         }
-        contributions.push_back(sj);
       }
     }
   }
@@ -326,12 +340,20 @@ void PairFractumGranular::compute(int eflag, int vflag)
     const Contribution &s = contributions[o];
     const int i = s.i;
     for (int k = 0; k < 3; k++) {
-      f[i][k] += s.c.force[k];
-      torque[i][k] += s.c.torque_a[k];
+      f[i][k] += s.force[k];
+      torque[i][k] += s.torque[k];
     }
-    if (frequency_due) add_share(i, s.c, bodies[i]);
+    if (frequency_due) {
+      FractumContact c{};
+      for (int k = 0; k < 3; k++) {
+        c.point[k] = s.point[k];
+        c.normal[k] = s.normal[k];
+      }
+      c.stiffness = s.stiffness;
+      add_share(i, c, bodies[i]);
+    }
     if (recording && grain_arr[i][3] == 0.0)
-      record(i, s.c.force, s.c.point, s.c.normal_force, s.c.radius, grain_arr[i][0]);
+      record(i, s.force, s.point, s.normal_force, s.radius, grain_arr[i][0]);
   }
   reshaped.clear();
 }
@@ -339,6 +361,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
 double PairFractumGranular::memory_usage()
 {
   return (double) bodies.capacity() * sizeof(FractumBody) +
+      (double) places.capacity() * sizeof(FractumPlacement) +
       (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
       (double) shares.capacity() * sizeof(double) +
       (double) contributions.capacity() * sizeof(Contribution) +

@@ -74,11 +74,14 @@ class PairFractumGranular : public Pair {
   class FractumNeighHistoryView *history = nullptr;
   class Fix *dummy = nullptr;
   std::vector<FractumBody> bodies;
-  /* One contact as one owned atom sees it: force and torque on it (force, torque_a). */
+  std::vector<FractumPlacement> places;
+  /* One contact as one owned atom sees it: the force and torque on it, and what fracture and
+     the step adaptation read of the contact. */
   struct Contribution {
     int i;
     tagint partner;
-    FractumContact c;
+    double force[3], torque[3], point[3], normal[3];
+    double normal_force, radius, stiffness;
   };
   std::vector<Contribution> contributions;
   // Indices into contributions, grouped by atom (counting sort: each atom's first slot and a
