@@ -660,22 +660,25 @@ enum FractumStatus fractum_kernel_kick_drift(struct FractumBody *b,
                                              const double *torque,
                                              double dt);
 
-// One contact's share of body `b`'s squared-frequency estimate (rad²/s²), as Fractum's
-// step adaptation sums it (`effects::contact::frequency_share`): the contact `c` (its point,
-// normal and stiffness) under `law` (friction adds the tangential spring), on `b` (its
-// centre, mass and principal moments are read). A body's estimate is
-// `sqrt(2 Σ shares)` over its contacts, walls included; see `fractum_kernel_adapted_step`.
+// One contact's share of body `a`'s row in Fractum's frequency bound (rad²/s²), as its step
+// adaptation sums it (`effects::contact::frequency_share` of the `contact_load`s): the
+// contact `c` (its point, normal and stiffness) under `law` (friction adds the tangential
+// spring) loads `a` (its centre, orientation, mass and principal moments are read) and its
+// partner `b` (NULL for a wall). A body's row sums the shares of its contacts, walls
+// included; the bound is sqrt of the largest row: see `fractum_kernel_adapted_step`.
 enum FractumStatus fractum_kernel_frequency_share(const struct FractumContactLaw *law,
                                                   const struct FractumContact *c,
+                                                  const struct FractumBody *a,
                                                   const struct FractumBody *b,
                                                   double *share);
 
 // Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
-// largest sum of a body's frequency shares (`fractum_kernel_frequency_share`) over all
-// bodies, `*next` = the step to take after `dt` (s): `dt` shortened so that `omega dt` is
-// 0.6 when it is above that (omega = sqrt(2 sum)), else `dt` unchanged. Fractum checks
-// every output step and after every split.
-enum FractumStatus fractum_kernel_adapted_step(double sum, double dt, double *next);
+// largest row of the frequency bound (`fractum_kernel_frequency_share` summed over a body's
+// contacts) over all bodies, `*next` = the step to take after `dt` (s): `dt` shortened so
+// that `omega dt` is `target` when it is above that (omega = sqrt(sum)), else `dt` unchanged.
+// Fractum's target is 3 x `time.safety` (`granular::ADAPT_PER_SAFETY`: 0.6 at the default
+// 0.2); it checks every output step and after every split.
+enum FractumStatus fractum_kernel_adapted_step(double sum, double dt, double target, double *next);
 
 // Velocity Verlet's second half kick of one grain (`velocity_verlet::kick_body`): `b`'s
 // velocity and angular velocity advance over `dt`/2 under `force` and `torque`.

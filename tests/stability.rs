@@ -71,3 +71,114 @@ fn a_step_too_long_for_the_contacts_stops_the_run_with_a_clear_error() {
     assert!(max > 0.0 && max < 0.1, "{max}");
     assert!(sim.warnings.is_empty());
 }
+
+/// A sphere pressed on a wall with friction: its normal mode `k / m` and its rolling-sliding
+/// mode, where the tangential spring `t k` acts at the lever r on translation and rotation:
+/// `t k (1/m + r²/I) = 3.5 t k / m` for a solid sphere. The bound the run adapts its step to
+/// is exact here (one contact), and the computed highest frequency finds the same.
+#[test]
+fn frequency_bound_is_exact_for_a_sphere_on_a_wall() {
+    use fractum::effects::contact::{
+        ContactRecord, WALL, records_highest_frequency, records_max_frequency,
+    };
+    let r = 1e-4;
+    let mut b = Bodies::default();
+    b.push_sphere(
+        Vec3::zeros(),
+        r,
+        RHO,
+        UnitQuaternion::from_euler_angles(0.3, -0.2, 0.9),
+    );
+    let (k, m) = (2.0e6, b.mass[0]);
+    let record = ContactRecord {
+        i: 0,
+        j: WALL,
+        point: Vec3::new(0.0, 0.0, -r),
+        normal: Vec3::z(),
+        force: Vec3::zeros(),
+        normal_force: 0.0,
+        radius: 1e-6,
+        stiffness: k,
+        energy: 0.0,
+    };
+    for t in [0.0, 0.2, 0.9] {
+        let exact = (k / m).max(3.5 * t * k / m).sqrt();
+        let bound = records_max_frequency(&[record], &b, t);
+        assert!(
+            (bound / exact - 1.0).abs() < 1e-12,
+            "t {t}: {bound} vs {exact}"
+        );
+        let (computed, at, _) = records_highest_frequency(&[record], &b, t, 200);
+        assert_eq!(at, 0);
+        assert!(
+            (computed / exact - 1.0).abs() < 1e-9,
+            "t {t}: {computed} vs {exact}"
+        );
+    }
+}
+
+/// Poly-ellipsoids of axis ratios up to 10 (split pieces) in random contact with each other
+/// and with walls, with and without friction: the bound is never below the highest frequency
+/// the power iteration finds (which approaches it from below), so a step chosen from the bound
+/// is never longer than the same rule on the true frequency.
+#[test]
+fn frequency_bound_is_never_below_the_computed_highest_frequency() {
+    use fractum::effects::contact::{
+        ContactRecord, WALL, records_highest_frequency, records_max_frequency,
+    };
+    use fractum::shape::PolyEllipsoid;
+    let mut seed = 12345u64;
+    let mut draw = move || {
+        seed = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    for case in 0..20 {
+        let mut b = Bodies::default();
+        let n = 12;
+        for _ in 0..n {
+            let mut semi = [0.0; 6];
+            for s in semi.iter_mut() {
+                *s = 1e-4 * (0.1 + 0.9 * draw());
+            }
+            let q = UnitQuaternion::from_euler_angles(6.3 * draw(), 6.3 * draw(), 6.3 * draw());
+            let c = Vec3::new(draw(), draw(), draw()) * 1e-3;
+            b.push_poly_ellipsoid(
+                PolyEllipsoid::new(semi).unwrap(),
+                1e-8 * (0.1 + draw()),
+                c,
+                q,
+            );
+        }
+        let mut records = Vec::new();
+        for _ in 0..30 {
+            let i = (draw() * n as f64) as u32 % n as u32;
+            let mut j = (draw() * n as f64) as u32 % n as u32;
+            if j == i || draw() < 0.2 {
+                j = WALL | (draw() * 6.0) as u32;
+            }
+            let normal = Vec3::new(draw() - 0.5, draw() - 0.5, draw() - 0.5).normalize();
+            let point =
+                b.pos[i as usize] + Vec3::new(draw() - 0.5, draw() - 0.5, draw() - 0.5) * 2e-4;
+            records.push(ContactRecord {
+                i,
+                j,
+                point,
+                normal,
+                force: Vec3::zeros(),
+                normal_force: 0.0,
+                radius: 1e-6,
+                stiffness: 1e6 * (0.1 + draw()),
+                energy: 0.0,
+            });
+        }
+        let t = if case % 2 == 0 { 0.0 } else { 0.9 };
+        let bound = records_max_frequency(&records, &b, t);
+        let (computed, _, _) = records_highest_frequency(&records, &b, t, 400);
+        assert!(
+            computed > 0.0 && bound >= computed * (1.0 - 1e-12),
+            "case {case}: bound {bound} below {computed}"
+        );
+    }
+}

@@ -1324,54 +1324,70 @@ pub extern "C" fn fractum_kernel_kick_drift(
     })
 }
 
-/// One contact's share of body `b`'s squared-frequency estimate (rad²/s²), as Fractum's
-/// step adaptation sums it (`effects::contact::frequency_share`): the contact `c` (its point,
-/// normal and stiffness) under `law` (friction adds the tangential spring), on `b` (its
-/// centre, mass and principal moments are read). A body's estimate is
-/// `sqrt(2 Σ shares)` over its contacts, walls included; see `fractum_kernel_adapted_step`.
+/// One contact's share of body `a`'s row in Fractum's frequency bound (rad²/s²), as its step
+/// adaptation sums it (`effects::contact::frequency_share` of the `contact_load`s): the
+/// contact `c` (its point, normal and stiffness) under `law` (friction adds the tangential
+/// spring) loads `a` (its centre, orientation, mass and principal moments are read) and its
+/// partner `b` (NULL for a wall). A body's row sums the shares of its contacts, walls
+/// included; the bound is sqrt of the largest row: see `fractum_kernel_adapted_step`.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_frequency_share(
     law: *const FractumContactLaw,
     c: *const FractumContact,
+    a: *const FractumBody,
     b: *const FractumBody,
     share: *mut f64,
 ) -> FractumStatus {
     kernel(|| {
-        let (law, c, b) = (get(law)?, get(c)?, get(b)?);
-        let inertia = Vec3::from(b.inertia);
-        // NaN fails every comparison: refused with the non-positive values.
-        let positive = |v: f64| v > 0.0;
-        input_if(!positive(b.mass) || !inertia.iter().all(|&m| positive(m)))?;
+        let (law, c, a) = (get(law)?, get(c)?, get(a)?);
+        let b = if b.is_null() { None } else { Some(get(b)?) };
+        let share = get_mut(share)?;
         let tangential = if law.friction != 0 {
             fractum::effects::contact::tangential_ratio(law.eight_g, law.two_e)
         } else {
             0.0
         };
-        *get_mut(share)? = fractum::effects::contact::frequency_share(
-            &Vec3::from(c.point),
-            &Vec3::from(c.normal),
-            c.stiffness,
-            &Vec3::from(b.pos),
-            1.0 / b.mass,
-            &inertia.map(|m| 1.0 / m),
-            tangential,
-        );
+        let load = |body: &FractumBody| -> Result<f64, FractumStatus> {
+            let inertia = Vec3::from(body.inertia);
+            // NaN fails every comparison: refused with the non-positive values.
+            let positive = |v: f64| v > 0.0;
+            input_if(!positive(body.mass) || !inertia.iter().all(|&m| positive(m)))?;
+            Ok(fractum::effects::contact::contact_load(
+                &Vec3::from(c.point),
+                &Vec3::from(c.normal),
+                c.stiffness,
+                &Vec3::from(body.pos),
+                &quat(&body.quat),
+                1.0 / body.mass,
+                &inertia.map(|m| 1.0 / m),
+                tangential,
+            ))
+        };
+        let own = load(a)?;
+        let other = b.map(load).transpose()?;
+        *share = fractum::effects::contact::frequency_share(own, other);
         Ok(())
     })
 }
 
 /// Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
-/// largest sum of a body's frequency shares (`fractum_kernel_frequency_share`) over all
-/// bodies, `*next` = the step to take after `dt` (s): `dt` shortened so that `omega dt` is
-/// 0.6 when it is above that (omega = sqrt(2 sum)), else `dt` unchanged. Fractum checks
-/// every output step and after every split.
+/// largest row of the frequency bound (`fractum_kernel_frequency_share` summed over a body's
+/// contacts) over all bodies, `*next` = the step to take after `dt` (s): `dt` shortened so
+/// that `omega dt` is `target` when it is above that (omega = sqrt(sum)), else `dt` unchanged.
+/// Fractum's target is 3 x `time.safety` (`granular::ADAPT_PER_SAFETY`: 0.6 at the default
+/// 0.2); it checks every output step and after every split.
 #[unsafe(no_mangle)]
-pub extern "C" fn fractum_kernel_adapted_step(sum: f64, dt: f64, next: *mut f64) -> FractumStatus {
+pub extern "C" fn fractum_kernel_adapted_step(
+    sum: f64,
+    dt: f64,
+    target: f64,
+    next: *mut f64,
+) -> FractumStatus {
     kernel(|| {
-        let valid = sum >= 0.0 && dt > 0.0; // false for NaN too
+        let valid = sum >= 0.0 && dt > 0.0 && target > 0.0; // false for NaN too
         input_if(!valid)?;
         let omega = fractum::effects::contact::frequency_bound(sum);
-        *get_mut(next)? = fractum::models::granular::adapted_step(omega, dt).unwrap_or(dt);
+        *get_mut(next)? = fractum::models::granular::adapted_step(omega, dt, target).unwrap_or(dt);
         Ok(())
     })
 }
@@ -1833,7 +1849,9 @@ mod tests {
     /// as `records_max_frequency` reads it), and the adapted step.
     #[test]
     fn frequency_share_and_adapted_step_give_the_library_bits() {
-        use fractum::effects::contact::{frequency_bound, frequency_share, tangential_ratio};
+        use fractum::effects::contact::{
+            ContactRecord, WALL, frequency_bound, records_max_frequency, tangential_ratio,
+        };
         let mut d = Draw::new(9);
         let (mut shortened, mut touching) = (0, 0);
         for fric in [false, true] {
@@ -1856,28 +1874,40 @@ mod tests {
                 }
                 touching += 1;
                 let (bodies, _) = run_pair(&a, &b);
-                let mut sum = 0.0;
-                for (i, body) in [a, b].iter().enumerate() {
-                    let mut share = f64::NAN;
-                    let s = fractum_kernel_frequency_share(&law, &c, &fb(body), &mut share);
+                // The run's bound over this one contact, between the bodies and against a wall.
+                let record = |j| ContactRecord {
+                    i: 0,
+                    j,
+                    point: Vec3::from(c.point),
+                    normal: Vec3::from(c.normal),
+                    force: Vec3::from(c.force),
+                    normal_force: c.normal_force,
+                    radius: c.radius,
+                    stiffness: c.stiffness,
+                    energy: c.energy,
+                };
+                let (fa, fb_) = (fb(&a), fb(&b));
+                let mut shares = [f64::NAN; 2];
+                for (k, (own, other)) in [(&fa, &fb_), (&fb_, &fa)].into_iter().enumerate() {
+                    let s = fractum_kernel_frequency_share(&law, &c, own, other, &mut shares[k]);
                     assert_eq!(s, FRACTUM_OK);
-                    let lib = frequency_share(
-                        &Vec3::from(c.point),
-                        &Vec3::from(c.normal),
-                        c.stiffness,
-                        &bodies.pos[i],
-                        bodies.inv_mass[i],
-                        &bodies.inv_inertia[i],
-                        tangential,
-                    );
-                    assert_eq!(share.to_bits(), lib.to_bits());
-                    sum = share;
                 }
+                let sum = shares[0].max(shares[1]);
+                let lib = records_max_frequency(&[record(1)], &bodies, tangential);
+                assert_eq!(frequency_bound(sum).to_bits(), lib.to_bits());
+                let mut wall = f64::NAN;
+                let s = fractum_kernel_frequency_share(&law, &c, &fa, null(), &mut wall);
+                assert_eq!(s, FRACTUM_OK);
+                let lib = records_max_frequency(&[record(WALL)], &bodies, tangential);
+                assert_eq!(frequency_bound(wall).to_bits(), lib.to_bits());
                 let omega = frequency_bound(sum);
                 for dt in [0.5, 1.5, 3.0].map(|f| f * 0.6 / omega) {
                     let mut next = f64::NAN;
-                    assert_eq!(fractum_kernel_adapted_step(sum, dt, &mut next), FRACTUM_OK);
-                    let lib = fractum::models::granular::adapted_step(omega, dt);
+                    assert_eq!(
+                        fractum_kernel_adapted_step(sum, dt, 0.6, &mut next),
+                        FRACTUM_OK
+                    );
+                    let lib = fractum::models::granular::adapted_step(omega, dt, 0.6);
                     assert_eq!(next.to_bits(), lib.unwrap_or(dt).to_bits());
                     shortened += usize::from(lib.is_some());
                 }
@@ -1891,11 +1921,15 @@ mod tests {
         );
         let mut next = 0.0;
         assert_eq!(
-            fractum_kernel_adapted_step(-1.0, 1e-8, &mut next),
+            fractum_kernel_adapted_step(-1.0, 1e-8, 0.6, &mut next),
             FRACTUM_ERR_INPUT
         );
         assert_eq!(
-            fractum_kernel_adapted_step(1.0, 0.0, &mut next),
+            fractum_kernel_adapted_step(1.0, 0.0, 0.6, &mut next),
+            FRACTUM_ERR_INPUT
+        );
+        assert_eq!(
+            fractum_kernel_adapted_step(1.0, 1e-8, f64::NAN, &mut next),
             FRACTUM_ERR_INPUT
         );
     }

@@ -22,7 +22,7 @@ using namespace FixConst;
 static const char *STYLE = "fix fractum/fracture";
 static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [cohesion KIC N] "
                            "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
-                           "[seed N] [adapt_dt EVERY]";
+                           "[seed N] [adapt_dt EVERY] [adapt_omega_dt X]";
 
 /* Random streams of the plugin's draws (keyed by tag and generation: the same on any rank
    count). */
@@ -136,6 +136,13 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
       if (!(n >= 0 && n == std::floor(n)))
         error->all(FLERR, "{}: adapt_dt = {} must be an integer >= 0 (steps; 0: off)", STYLE, n);
       adapt_every = static_cast<bigint>(n);
+      iarg += 2;
+    } else if (key == "adapt_omega_dt") {
+      double x = num(iarg + 1, "adapt_omega_dt");
+      if (!(x > 0.0 && x < 2.0))
+        error->all(FLERR, "{}: adapt_omega_dt = {} must lie in (0, 2) (velocity Verlet's limit)",
+                   STYLE, x);
+      adapt_omega_dt = x;
       iarg += 2;
     } else {
       error->all(FLERR, "{}: unknown argument {}; allowed: {}", STYLE, key, USAGE);
@@ -492,7 +499,7 @@ void FixFractumFracture::adapt_step()
     for (int i = 0; i < nlocal; i++) local = std::max(local, pair->shares[i]);
   MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_MAX, world);
   double next = update->dt;
-  int status = fractum_kernel_adapted_step(sum, update->dt, &next);
+  int status = fractum_kernel_adapted_step(sum, update->dt, adapt_omega_dt, &next);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "adapted_step", status);
   if (next == update->dt) return;
   // As fix dt/reset: everything that depends on the step learns it.

@@ -7,6 +7,7 @@
 
    fix ID group fractum/fracture mi M sigma_c S sigma_f S [weibull W XM] [cohesion KIC N]
        [critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] [seed N]
+       [adapt_dt EVERY] [adapt_omega_dt X]
 
    Per-atom state: d2_fr_grain (strength factor, sample grain, splits, intact springs, parent) and
    d2_fr_springs (21 doubles per spring slot, N slots):
@@ -60,6 +61,7 @@ class FixFractumFracture : public Fix {
   int cohesion = 0;
   bigint seed = 1;
   bigint adapt_every = 0;    // 0: the step is left alone
+  double adapt_omega_dt = 0.6;    // the omega dt the step is shortened to (Fractum: 3 x safety)
   bool split_evaluated = false;
   double shortened = 0.0;
   double failed_at = -1.0;

@@ -166,7 +166,7 @@ void FixFractumPlatens::post_force(int)
       local[FACES + w] += 1.0;
       pair->elastic_energy += out.energy;
       pair->dissipated += out.dissipated;
-      if (pair->frequency_due) pair->add_share(i, out, b);
+      if (pair->frequency_due) pair->add_share(i, out, b, nullptr);
       if (pair->recording && grain && grain[i][3] == 0.0)
         pair->record(i, out.force, out.point, out.normal_force, out.radius, grain[i][0]);
     }

@@ -197,10 +197,11 @@ void PairFractumGranular::record(int i, const double *f, const double *p, double
   c.count++;
 }
 
-void PairFractumGranular::add_share(int i, const FractumContact &c, const FractumBody &b)
+void PairFractumGranular::add_share(int i, const FractumContact &c, const FractumBody &b,
+                                    const FractumBody *partner)
 {
   double share = 0.0;
-  int status = fractum_kernel_frequency_share(&law, &c, &b, &share);
+  int status = fractum_kernel_frequency_share(&law, &c, &b, partner, &share);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "frequency_share", status);
   if (shares.size() < static_cast<size_t>(atom->nlocal)) shares.resize(atom->nlocal, 0.0);
   shares[i] += share;
@@ -295,6 +296,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
       // Force on i; torques on i and j.
       Contribution si;
       si.i = i;
+      si.j = j;
       si.partner = tag[j];
       for (int k = 0; k < 3; k++) {
         si.force[k] = swap ? -out.force[k] : out.force[k];
@@ -309,6 +311,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
       if (j < nlocal) {
         Contribution &sj = contributions.emplace_back(si);
         sj.i = j;
+        sj.j = i;
         sj.partner = tag[i];
         for (int k = 0; k < 3; k++) {
           sj.force[k] = -si.force[k];
@@ -350,7 +353,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
         c.normal[k] = s.normal[k];
       }
       c.stiffness = s.stiffness;
-      add_share(i, c, bodies[i]);
+      add_share(i, c, bodies[i], &bodies[s.j]);
     }
     if (recording && grain_arr[i][3] == 0.0)
       record(i, s.force, s.point, s.normal_force, s.radius, grain_arr[i][0]);

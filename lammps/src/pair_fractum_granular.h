@@ -62,8 +62,9 @@ class PairFractumGranular : public Pair {
      `frequency_due` is set. */
   bool frequency_due = false;
   std::vector<double> shares;    // 1 per owned atom
-  /* Add contact c's share to owned atom i (body b). */
-  void add_share(int i, const FractumContact &c, const FractumBody &b);
+  /* Add contact c's share to owned atom i (body b; its partner, nullptr for a wall). */
+  void add_share(int i, const FractumContact &c, const FractumBody &b,
+                 const FractumBody *partner);
   /* Tags of bodies reshaped by a split: their contacts' held Hertz radii start afresh. */
   std::vector<tagint> reshaped;
 
@@ -78,7 +79,7 @@ class PairFractumGranular : public Pair {
   /* One contact as one owned atom sees it: the force and torque on it, and what fracture and
      the step adaptation read of the contact. */
   struct Contribution {
-    int i;
+    int i, j;    // the owned atom and its partner (owned or ghost)
     tagint partner;
     double force[3], torque[3], point[3], normal[3];
     double normal_force, radius, stiffness;

@@ -1204,29 +1204,140 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
     }
 }
 
-/// A Gershgorin bound on the highest frequency (rad/s) of the recorded contacts, translation
-/// and rotation: each body sums its contacts' [`frequency_share`]s, and the bound is
-/// `sqrt(2 Σ)` (both partners move), as for spheres.
-fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential: f64) -> f64 {
-    let mut w2 = vec![0.0; bodies.len()];
-    let mut add = |i: usize, r: &ContactRecord| {
-        w2[i] += frequency_share(
+/// A bound on the highest frequency (rad/s) of the recorded contacts' linearised springs,
+/// translation and rotation (block Gershgorin over the bodies, docs/performance.md): each
+/// contact loads each of its bodies by [`contact_load`], a body's row sums its contacts'
+/// [`frequency_share`]s, and the bound is [`frequency_bound`] of the largest row. Exact for two
+/// equal spheres (`sqrt(2 k / m)`); within 1.2-1.4x of the computed highest frequency
+/// ([`records_highest_frequency`]) in the main job.
+pub fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential: f64) -> f64 {
+    let mut rows = vec![0.0; bodies.len()];
+    let load = |i: usize, r: &ContactRecord| {
+        contact_load(
             &r.point,
             &r.normal,
             r.stiffness,
             &bodies.pos[i],
+            &bodies.orientation[i],
             bodies.inv_mass[i],
             &bodies.inv_inertia[i],
             tangential,
-        );
+        )
     };
     for r in records {
-        add(r.i as usize, r);
-        if r.wall().is_none() {
-            add(r.j as usize, r);
+        let i = r.i as usize;
+        let own = load(i, r);
+        match r.wall() {
+            Some(_) => rows[i] += frequency_share(own, None),
+            None => {
+                let j = r.j as usize;
+                let other = load(j, r);
+                rows[i] += frequency_share(own, Some(other));
+                rows[j] += frequency_share(other, Some(own));
+            }
         }
     }
-    w2.iter().map(|&x| frequency_bound(x)).fold(0.0, f64::max)
+    rows.iter().map(|&x| frequency_bound(x)).fold(0.0, f64::max)
+}
+
+/// The highest frequency (rad/s) of the recorded contacts' linearised springs, computed rather
+/// than bounded: the largest eigenvalue of `M^-1/2 K M^-1/2` by power iteration, with K the
+/// normal springs `stiffness n n^T` and (with friction, `tangential` > 0) the Mindlin springs
+/// `tangential stiffness (1 - n n^T)` acting at the contact points on every body's three
+/// translations and three rotations (principal moments turned to the world), walls fixed.
+/// Returns that frequency and the body that moves most in its mode (the translational share
+/// of that body's motion as the third value). It is never above [`records_max_frequency`],
+/// the bound the run adapts its step to; `iterations` (a few hundred) sets how closely it
+/// approaches from below. For diagnosis (what sets a run's step), not for the step loop.
+pub fn records_highest_frequency(
+    records: &[ContactRecord],
+    bodies: &Bodies,
+    tangential: f64,
+    iterations: usize,
+) -> (f64, usize, f64) {
+    let n = bodies.len();
+    if n == 0 || records.is_empty() {
+        return (0.0, 0, 0.0);
+    }
+    // M^-1/2 per body: 1/sqrt(m) for translation, R diag(1/sqrt(I)) R^T for rotation.
+    let rot_half: Vec<Matrix3<f64>> = (0..n)
+        .map(|i| {
+            let r = bodies.orientation[i].to_rotation_matrix().into_inner();
+            r * Matrix3::from_diagonal(&bodies.inv_inertia[i].map(f64::sqrt)) * r.transpose()
+        })
+        .collect();
+    let lin_half: Vec<f64> = bodies.inv_mass.iter().map(|m| m.sqrt()).collect();
+    let apply = |w: &[[Vec3; 2]], out: &mut [[Vec3; 2]]| {
+        for o in out.iter_mut() {
+            *o = [Vec3::zeros(); 2];
+        }
+        let disp = |i: usize, c: &Vec3| {
+            let (u, th) = (w[i][0] * lin_half[i], rot_half[i] * w[i][1]);
+            u + th.cross(&(c - bodies.pos[i]))
+        };
+        for r in records {
+            let i = r.i as usize;
+            let mut d = disp(i, &r.point);
+            let wall = r.wall().is_some();
+            if !wall {
+                d -= disp(r.j as usize, &r.point);
+            }
+            let dn = r.normal * r.normal.dot(&d);
+            let f = (dn + (d - dn) * tangential) * r.stiffness;
+            let mut push = |b: usize, f: Vec3| {
+                out[b][0] += f * lin_half[b];
+                out[b][1] += rot_half[b] * (r.point - bodies.pos[b]).cross(&f);
+            };
+            push(i, f);
+            if !wall {
+                push(r.j as usize, -f);
+            }
+        }
+    };
+    // A deterministic start that touches every body and direction.
+    let mut w: Vec<[Vec3; 2]> = (0..n)
+        .map(|i| {
+            let x = (i as f64 + 1.0) * 0.618_033_988_749_895;
+            let c = |k: f64| (x * k).fract() - 0.5;
+            [
+                Vec3::new(c(1.0), c(3.0), c(7.0)),
+                Vec3::new(c(11.0), c(13.0), c(17.0)),
+            ]
+        })
+        .collect();
+    let mut next = vec![[Vec3::zeros(); 2]; n];
+    let norm = |v: &[[Vec3; 2]]| {
+        v.iter()
+            .map(|b| b[0].norm_squared() + b[1].norm_squared())
+            .sum::<f64>()
+            .sqrt()
+    };
+    let mut lambda = 0.0;
+    for _ in 0..iterations {
+        let s = norm(&w);
+        if s.is_nan() || s <= 0.0 {
+            break;
+        }
+        for b in w.iter_mut() {
+            b[0] /= s;
+            b[1] /= s;
+        }
+        apply(&w, &mut next);
+        lambda = w
+            .iter()
+            .zip(&next)
+            .map(|(a, b)| a[0].dot(&b[0]) + a[1].dot(&b[1]))
+            .sum::<f64>();
+        std::mem::swap(&mut w, &mut next);
+    }
+    let (mut top, mut at, mut lin) = (0.0, 0, 0.0);
+    for (i, b) in w.iter().enumerate() {
+        let e = b[0].norm_squared() + b[1].norm_squared();
+        if e > top {
+            (top, at, lin) = (e, i, b[0].norm_squared() / e);
+        }
+    }
+    (lambda.max(0.0).sqrt(), at, lin)
 }
 
 /// The neighbour-list skin (m) without a scene's `neighbor.skin`: 0.4 of the smallest radius.
@@ -1234,32 +1345,53 @@ pub fn default_skin(bodies: &Bodies) -> f64 {
     0.4 * bodies.min_radius()
 }
 
-/// One contact's share of a body's squared-frequency estimate (rad²/s², before doubling): a
-/// contact of normal stiffness `stiffness` (N/m) at `point` with unit `normal` on a body at
-/// `pos` of inverse mass `inv_mass` and inverse principal moments `inv_inertia` adds
-/// `k / m + k |c × n|² / I_min` through its normal spring (c the lever from the centre) and,
-/// with friction, `t k (1 / m + |c|² / I_min)` through its tangential (Mindlin) spring, whose
-/// lever turns with the tangential direction: up to the whole lever. `tangential` is the
-/// tangential-to-normal stiffness ratio [`tangential_ratio`] (0 without friction).
-pub fn frequency_share(
+/// How hard one contact's springs load one of its bodies (rad²/s²): the largest eigenvalue of
+/// `S^½ G S^½`, with `S = k (n nᵀ + t (1 − n nᵀ))` the contact's normal (stiffness `k`, N/m,
+/// along the unit `normal`) and Mindlin tangential (`t k`) springs and
+/// `G = 1/m + [c]× I⁻¹ [c]×ᵀ` the body's compliance at `point` (c the lever from the centre
+/// `pos`, I⁻¹ the inverse inertia tensor: the inverse principal moments `inv_inertia` turned
+/// to the world by `orientation`). Without friction (`tangential` 0) it is
+/// `k (1/m + (c × n)ᵀ I⁻¹ (c × n))`. `tangential` is [`tangential_ratio`].
+#[allow(clippy::too_many_arguments)]
+pub fn contact_load(
     point: &Vec3,
     normal: &Vec3,
     stiffness: f64,
     pos: &Vec3,
+    orientation: &UnitQuaternion<f64>,
     inv_mass: f64,
     inv_inertia: &Vec3,
     tangential: f64,
 ) -> f64 {
     let lever = point - pos;
-    let arm2 = lever.cross(normal).norm_squared();
-    let inv_i = inv_inertia.max();
-    stiffness * (inv_mass + arm2 * inv_i)
-        + tangential * stiffness * (inv_mass + lever.norm_squared() * inv_i)
+    if tangential == 0.0 {
+        let arm = orientation.inverse_transform_vector(&lever.cross(normal));
+        return stiffness * (inv_mass + arm.component_mul(&arm).dot(inv_inertia));
+    }
+    // Y = [c]× R: the rotation (in the principal frame) that moves the contact point.
+    let y = lever.cross_matrix() * orientation.to_rotation_matrix().into_inner();
+    let g = Matrix3::from_diagonal_element(inv_mass)
+        + y * Matrix3::from_diagonal(inv_inertia) * y.transpose();
+    let root_t = tangential.sqrt();
+    let q = Matrix3::from_diagonal_element(root_t) + normal * normal.transpose() * (1.0 - root_t);
+    let h = q * g * q * stiffness;
+    let h = (h + h.transpose()) * 0.5;
+    crate::fracture::criteria::symmetric3_eigenvalues(&h)[0]
+}
+
+/// One contact's share of a body's row (rad²/s²): its load on the body, `own`, plus its
+/// coupling to the partner, `sqrt(own other)` (`other` the load on the partner; none for a
+/// wall, which does not move).
+pub fn frequency_share(own: f64, other: Option<f64>) -> f64 {
+    match other {
+        Some(o) => own + (own * o).sqrt(),
+        None => own,
+    }
 }
 
 /// The frequency bound (rad/s) of a body whose contacts' [`frequency_share`]s sum to `sum`.
 pub fn frequency_bound(sum: f64) -> f64 {
-    (2.0 * sum).sqrt()
+    sum.sqrt()
 }
 
 /// The Mindlin tangential stiffness over the Hertz normal stiffness, `8 G* / (2 E*)` (0

@@ -82,7 +82,12 @@ pub fn principal_compressions(stress: &Matrix3<f64>) -> ([f64; 3], [Vec3; 3]) {
 /// (the trigonometric solution of the characteristic cubic): the check every grain takes
 /// every step.
 pub fn principal_compression_values(stress: &Matrix3<f64>) -> [f64; 3] {
-    let a = -(stress + stress.transpose()) * 0.5;
+    symmetric3_eigenvalues(&(-(stress + stress.transpose()) * 0.5))
+}
+
+/// The eigenvalues of the symmetric 3×3 `a` (its upper triangle is read), largest first, in
+/// closed form (the trigonometric solution of the characteristic cubic).
+pub fn symmetric3_eigenvalues(a: &Matrix3<f64>) -> [f64; 3] {
     let p1 = a.m12 * a.m12 + a.m13 * a.m13 + a.m23 * a.m23;
     let q = a.trace() / 3.0;
     let p2 = (a.m11 - q).powi(2) + (a.m22 - q).powi(2) + (a.m33 - q).powi(2) + 2.0 * p1;

@@ -851,7 +851,11 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
             let _ = write!(line, " cohesion {:e} {ns}", plan.cfg.fracture.toughness);
         }
         if adapt {
-            let _ = write!(line, " adapt_dt {every}");
+            let _ = write!(
+                line,
+                " adapt_dt {every} adapt_omega_dt {:e}",
+                sim.model.adapt_omega_dt
+            );
         }
         let _ = writeln!(s, "{line}");
     }

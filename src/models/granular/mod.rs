@@ -55,6 +55,8 @@ pub struct Granular {
     strains_asked: Vec<f64>,
     /// `time.dt = "auto"`: the step may be shortened for breaking grains' pieces.
     pub auto_dt: bool,
+    /// The `ω dt` the step is shortened to: [`ADAPT_PER_SAFETY`] × `time.safety`.
+    pub adapt_omega_dt: f64,
     pub state: GranularState,
 }
 
@@ -108,15 +110,18 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
 /// Above this estimated `ω dt` a run stops, above the second it warns.
 const OMEGA_DT_LIMIT: f64 = 2.0;
 const OMEGA_DT_WARN: f64 = 1.6;
-/// The estimated `ω dt` above which a fracture run shortens its step.
-pub const ADAPT_OMEGA_DT: f64 = 0.6;
+/// A fracture run with `time.dt = "auto"` keeps the estimated `ω dt` of its stiffest body at
+/// most this times `time.safety` (0.6 at the default 0.2): the safety that sets the first step
+/// from the Rayleigh step also sets how close to the stiffest contact the step stays as pieces
+/// appear (docs/performance.md: the main job's ensembles at each safety).
+pub const ADAPT_PER_SAFETY: f64 = 3.0;
 
 /// The step a fracture run takes after `dt` (s) when the highest frequency of its contacts is
-/// estimated at `omega` (rad/s): shortened to give `ω dt` = [`ADAPT_OMEGA_DT`] when it is
-/// above that, else `None` (keep `dt`).
-pub fn adapted_step(omega: f64, dt: f64) -> Option<f64> {
+/// estimated at `omega` (rad/s): shortened to give `ω dt` = `target` when it is above that,
+/// else `None` (keep `dt`).
+pub fn adapted_step(omega: f64, dt: f64, target: f64) -> Option<f64> {
     let omega_dt = omega * dt;
-    (omega_dt > ADAPT_OMEGA_DT).then(|| dt * (ADAPT_OMEGA_DT / omega_dt))
+    (omega_dt > target).then(|| dt * (target / omega_dt))
 }
 
 /// The force pipeline of exactly the effects a granular scene names. `friction` overrides
@@ -256,6 +261,7 @@ impl Granular {
                 .clone()
                 .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]),
             auto_dt: scene.time.dt == DtSpec::Auto,
+            adapt_omega_dt: ADAPT_PER_SAFETY * scene.time.safety,
             cfg,
             state,
         }
@@ -367,17 +373,18 @@ impl Granular {
 
     /// Breaking grains make pieces smaller than any grain of the sample, and contacts between
     /// them as stiff as their overlaps make them: with `fracture` and `time.dt = "auto"`, the
-    /// step is shortened whenever the estimated highest frequency (normal and tangential
-    /// contact springs through their levers) gives `ω dt` above [`ADAPT_OMEGA_DT`]; it never
-    /// grows back. Checked at every output step and after every split. Without it the pieces'
-    /// spins went unstable (ω dt estimated 1.3, the rotational modes beyond 2) and fed energy to
-    /// the contacts' damping: 91% energy-balance error in a 5×5×5 hcp SHPB sample at 0.2 strain.
+    /// step is shortened whenever the bound on the highest frequency (normal and tangential
+    /// contact springs through their levers, `records_max_frequency`) gives `ω dt` above
+    /// [`ADAPT_PER_SAFETY`] × `time.safety`; it never grows back. Checked at every output step
+    /// and after every split. Without it the pieces' spins went unstable (ω dt estimated 1.3,
+    /// the rotational modes beyond 2) and fed energy to the contacts' damping: 91%
+    /// energy-balance error in a 5×5×5 hcp SHPB sample at 0.2 strain.
     /// `omega` is the current estimate of the highest frequency (rad/s).
     fn adapt_time_step(&mut self, clock: &mut Clock, omega: f64) {
         if self.state.fracture.is_none() || !self.auto_dt {
             return;
         }
-        let Some(dt) = adapted_step(omega, clock.dt) else {
+        let Some(dt) = adapted_step(omega, clock.dt, self.adapt_omega_dt) else {
             return;
         };
         clock.dt = dt;
