@@ -57,10 +57,8 @@ fn pressed(dirs: &[Vec3], f: f64, a: f64) -> ContactRecords {
 
 fn check(sim: &Simulation, records: &ContactRecords) -> Vec<fractum::fracture::Breaking> {
     let forces = Forces::new(1);
-    sim.fracture
-        .as_ref()
-        .unwrap()
-        .check(&sim.bodies, &forces, records)
+    let mut fracture = sim.fracture.clone().unwrap();
+    fracture.check(&sim.bodies, &forces, records)
 }
 
 /// The contact radius at which force `f` gives the contact tensile stress `st` (Eq. 17).

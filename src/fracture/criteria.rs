@@ -103,6 +103,26 @@ pub fn symmetric3_eigenvalues(a: &Matrix3<f64>) -> [f64; 3] {
     [s1, 3.0 * q - s1 - s3, s3]
 }
 
+/// Whether the tension-positive `stress` may fail Hoek–Brown (σc `sigma_c`, `mi`): false only
+/// when it certainly does not, from bounds on its principal values that need no eigenvalues.
+/// With q the mean and p = ‖dev‖_F / √6 of the compression-positive stress, the principal values
+/// lie in [q − 2p, q + 2p] and σ1 − σ3 ≤ 2√3 p; Hoek–Brown holds when σ3 ≥ q − 2p stays above
+/// the tensile cut-off and 2√3 p stays below σc sqrt(m_i (q − 2p) / σc + 1), both with margins
+/// far above the rounding of the closed-form values, so skipping [`hoek_brown_fails`] when this
+/// is false never changes a decision.
+pub fn hoek_brown_may_fail(stress: &Matrix3<f64>, sigma_c: f64, mi: f64) -> bool {
+    let a = -(stress + stress.transpose()) * 0.5;
+    let q = a.trace() / 3.0;
+    let p2 = (a.m11 - q).powi(2)
+        + (a.m22 - q).powi(2)
+        + (a.m33 - q).powi(2)
+        + 2.0 * (a.m12 * a.m12 + a.m13 * a.m13 + a.m23 * a.m23);
+    let p = (p2 / 6.0).sqrt() * (1.0 + 1e-9) + 1e-12 * q.abs();
+    let s = mi * (q - 2.0 * p) / sigma_c + 1.0;
+    let holds = s > 0.0 && 2.0 * 3f64.sqrt() * p * (1.0 + 1e-9) < sigma_c * s.sqrt();
+    !holds
+}
+
 /// Hoek–Brown (Eq. 14), compression positive: a grain fails when
 /// `σ1 ≥ σ3 + σc sqrt(m_i σ3 / σc + 1)`. Below the tensile cut-off `σ3 < −σc / m_i` the root
 /// has no real value: the grain fails in tension.
@@ -143,6 +163,54 @@ pub fn weibull_factor(p: f64, w: f64, x: f64, x_m: f64) -> f64 {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// The bound never says "cannot fail" of a stress that fails: random stresses around the
+    /// Hoek–Brown surface (hydrostatic to deviatoric, compressive to past the tensile cut-off,
+    /// and right at the surface), against the closed-form principal values; and it does skip
+    /// most stresses well inside the surface.
+    #[test]
+    fn hoek_brown_bound_never_hides_a_failure() {
+        let (sc, mi) = (592e6, 20.56);
+        let mut seed = 7u64;
+        let mut draw = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let (mut failing, mut skipped, mut inside) = (0, 0, 0);
+        for case in 0..200_000 {
+            let scale = sc * [0.01, 0.1, 0.5, 1.0, 3.0][case % 5];
+            let mut m = Matrix3::from_fn(|_, _| draw() * scale);
+            m = (m + m.transpose()) * 0.5 - Matrix3::identity() * (draw() + 0.3) * scale;
+            // Scale some onto the surface itself: σ1 − σ3 at the limit for their σ3.
+            let [s1, _, s3] = principal_compression_values(&m);
+            if case % 7 == 0 && s1 > s3 {
+                let limit = hoek_brown_limit(s3, sc, mi);
+                if limit.is_finite() {
+                    let dev = m - Matrix3::identity() * (m.trace() / 3.0);
+                    m = Matrix3::identity() * (m.trace() / 3.0) + dev * ((limit - s3) / (s1 - s3));
+                }
+            }
+            let [s1, _, s3] = principal_compression_values(&m);
+            let fails = hoek_brown_fails(s1, s3, sc, mi);
+            let may = hoek_brown_may_fail(&m, sc, mi);
+            assert!(
+                may || !fails,
+                "case {case}: a failing stress was skipped: {m}"
+            );
+            failing += usize::from(fails);
+            if !fails && s1 - s3 < 0.3 * (hoek_brown_limit(s3, sc, mi) - s3) {
+                inside += 1;
+                skipped += usize::from(!may);
+            }
+        }
+        assert!(failing > 10_000, "{failing}");
+        assert!(
+            skipped * 2 > inside,
+            "{skipped} of {inside} well inside skipped"
+        );
+    }
 
     /// A sphere squeezed between two opposite forces F along z: σ_zz = −2rF/V = −3F/(2πr²)
     /// (the 3D counterpart of Eq. 15), nothing else.

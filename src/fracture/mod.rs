@@ -155,6 +155,17 @@ pub struct GrainFracture {
     pub spring_work: f64,
     pub split_energy: f64,
     rng: ChaCha8Rng,
+    /// The check's per-step work arrays, kept between steps (not state).
+    #[serde(skip)]
+    scratch: CheckScratch,
+}
+
+/// What [`GrainFracture::check`] gathers each step: per body the moment of its contact
+/// forces; the critical contacts (body, tensile stress, point).
+#[derive(Debug, Clone, Default)]
+struct CheckScratch {
+    moment: Vec<Matrix3<f64>>,
+    critical: Vec<(u32, f64, Vec3)>,
 }
 
 /// The random stream of fracture (Weibull variates, plane jitter).
@@ -175,6 +186,7 @@ impl GrainFracture {
             spring_work: 0.0,
             split_energy: 0.0,
             rng: crate::sample::stream(seed, STREAM_FRACTURE),
+            scratch: CheckScratch::default(),
         };
         for i in 0..n {
             let s = f.draw_strength(bodies, i);
@@ -260,22 +272,26 @@ impl GrainFracture {
     /// The free grains that fail at the current state, in index order, with what broke them.
     /// `records` are the contacts of the force evaluation that gave `forces`.
     pub fn check(
-        &self,
+        &mut self,
         bodies: &Bodies,
         forces: &Forces,
         records: &ContactRecords,
     ) -> Vec<Breaking> {
         let n = bodies.len();
         let p = &self.params;
-        let mut moment = vec![Matrix3::<f64>::zeros(); n];
-        let mut critical: Vec<(u32, f64, Vec3)> = Vec::new();
+        let CheckScratch { moment, critical } = &mut self.scratch;
+        moment.clear();
+        moment.resize(n, Matrix3::zeros());
+        critical.clear();
+        let bonds = &self.bonds;
+        let strength = &self.strength;
         let mut touch = |i: usize, force: Vec3, r: &crate::effects::ContactRecord| {
-            if self.bonds[i] != 0 {
+            if bonds[i] != 0 {
                 return;
             }
             moment[i] += force * (r.point - bodies.pos[i]).transpose();
             let st = criteria::contact_tensile_stress(r.normal_force, r.radius, p.poisson);
-            if st > p.sigma_f * self.strength[i] {
+            if st > p.sigma_f * strength[i] {
                 critical.push((i as u32, st, r.point));
             }
         };
@@ -293,7 +309,7 @@ impl GrainFracture {
             while c < critical.len() && critical[c].0 as usize == i {
                 c += 1;
             }
-            if self.bonds[i] != 0 || *m == Matrix3::zeros() {
+            if bonds[i] != 0 || *m == Matrix3::zeros() {
                 continue;
             }
             let crit = &critical[start..c];
@@ -305,7 +321,7 @@ impl GrainFracture {
             if let Some((trigger, criterion, stress)) = grain_fails(
                 p,
                 &bodies.body(i),
-                self.strength[i],
+                strength[i],
                 m,
                 &forces.torque[i],
                 crit.len(),
@@ -448,9 +464,13 @@ pub fn grain_fails(
     top_stress: f64,
 ) -> Option<(Trigger, Criterion, f64)> {
     let stress = grain_average_stress(body, moment, torque);
-    let [s1, _, s3] = criteria::principal_compression_values(&stress);
-    if criteria::hoek_brown_fails(s1, s3, p.sigma_c * strength, p.mi) {
-        return Some((Trigger::HoekBrown { stress }, Criterion::HoekBrown, s1));
+    let sigma_c = p.sigma_c * strength;
+    // Most grains are far from failing: a bound on the principal values first.
+    if criteria::hoek_brown_may_fail(&stress, sigma_c, p.mi) {
+        let [s1, _, s3] = criteria::principal_compression_values(&stress);
+        if criteria::hoek_brown_fails(s1, s3, sigma_c, p.mi) {
+            return Some((Trigger::HoekBrown { stress }, Criterion::HoekBrown, s1));
+        }
     }
     if critical >= p.critical_contacts {
         let points = &points[..points.len().min(3)];

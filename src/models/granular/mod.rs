@@ -286,9 +286,10 @@ impl Granular {
         if let Some(e) = &mut self.state.energy {
             e.add_step(&self.state.walls, dissipated, dt);
         }
-        let fracture = self.state.fracture.as_ref().expect("called with fracture");
+        let st = &mut self.state;
+        let fracture = st.fracture.as_mut().expect("called with fracture");
         let records = self.pipeline.records().expect("fracture records contacts");
-        let breaking = fracture.check(&self.state.bodies, &self.state.forces, records);
+        let breaking = fracture.check(&st.bodies, &st.forces, records);
         self.break_grains(clock, &breaking);
         self.take_size_distributions();
     }
