@@ -14,8 +14,10 @@
 //! safety's, relative, with the spread. Writes docs/img/shpb_ensemble.svg (largest relative
 //! error of the mean over the five strains against mean wall seconds, the spread as a band).
 //!
-//! Environment: `FRACTUM_ENSEMBLE_SAFETY` (default `0.05,0.1,0.2,0.4`), `FRACTUM_ENSEMBLE_SEEDS`
-//! (default `1,2,3,4,5`), `FRACTUM_ENSEMBLE_JOBS`. Each finished run's summary.json is kept
+//! Environment: `FRACTUM_ENSEMBLE_SAFETY` (default `0.05,0.1,0.2,0.4`; runs go in this order),
+//! `FRACTUM_ENSEMBLE_SEEDS` (default `1,2,3,4,5`), `FRACTUM_ENSEMBLE_JOBS`, `FRACTUM_BIN` (the
+//! fractum binary to run; default the one cargo built: a copy keeps an ensemble on one build
+//! while the tree changes). Each finished run's summary.json is kept
 //! under target/shpb_ensemble/ with the binary's size and modification time in the folder name,
 //! so an interrupted ensemble picks up where it stopped and a rebuilt binary starts afresh.
 //! Asserts nothing. Full ensembles take hours on two cores: run on an idle machine.
@@ -97,7 +99,8 @@ fn at(s: &Value, key: &str, strain: &str) -> f64 {
 }
 
 fn main() {
-    let bin = PathBuf::from(env!("CARGO_BIN_EXE_fractum"));
+    let bin = std::env::var_os("FRACTUM_BIN")
+        .map_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_fractum")), PathBuf::from);
     let safeties = list("FRACTUM_ENSEMBLE_SAFETY", "0.05,0.1,0.2,0.4");
     let seeds = list("FRACTUM_ENSEMBLE_SEEDS", "1,2,3,4,5");
     let jobs: usize = std::env::var("FRACTUM_ENSEMBLE_JOBS")
