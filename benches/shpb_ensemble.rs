@@ -99,8 +99,10 @@ fn at(s: &Value, key: &str, strain: &str) -> f64 {
 }
 
 fn main() {
-    let bin = std::env::var_os("FRACTUM_BIN")
-        .map_or_else(|| PathBuf::from(env!("CARGO_BIN_EXE_fractum")), PathBuf::from);
+    let bin = std::env::var_os("FRACTUM_BIN").map_or_else(
+        || PathBuf::from(env!("CARGO_BIN_EXE_fractum")),
+        PathBuf::from,
+    );
     let safeties = list("FRACTUM_ENSEMBLE_SAFETY", "0.05,0.1,0.2,0.4");
     let seeds = list("FRACTUM_ENSEMBLE_SEEDS", "1,2,3,4,5");
     let jobs: usize = std::env::var("FRACTUM_ENSEMBLE_JOBS")

@@ -21,12 +21,21 @@ pub fn threads_here() -> usize {
 
 /// A pool of `threads` workers (0: one per core), or none for a single thread: then the run
 /// stays on the caller's thread and never hands work across threads.
+///
+/// More threads than the machine has cores is refused (a request for 100,000 made rayon start
+/// them and the run hang): more threads than cores only adds hand-offs, and results depend on
+/// the thread count, so it is not silently clamped either.
 pub fn thread_pool(threads: usize) -> Result<Option<Arc<rayon::ThreadPool>>> {
-    let threads = if threads == 0 {
-        std::thread::available_parallelism().map_or(1, |n| n.get())
-    } else {
-        threads
-    };
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if threads > cores {
+        return Err(Error::input(
+            "--threads",
+            format!(
+                "{threads} is more than the {cores} cores of this machine: use 1 to {cores} (0: every core)"
+            ),
+        ));
+    }
+    let threads = if threads == 0 { cores } else { threads };
     if threads <= 1 {
         return Ok(None);
     }

@@ -303,3 +303,43 @@ fn unknown_model() {
         &["model.kind", "\"lattice\"", "granular, dlsm, beam2d"],
     );
 }
+
+#[test]
+fn a_name_that_is_not_a_plain_file_name_is_refused() {
+    // Without --out the name becomes out/NAME: "../../x" or an absolute name wrote outside
+    // out/, and a NUL byte failed late with exit 1 (issue 16, item 8).
+    for bad in ["../../x", "/tmp/x", "a/b", ".hidden", "a\\u0000b", "a b"] {
+        let t = replace(
+            &base(),
+            "name = \"small_oedometer\"",
+            &format!("name = \"{bad}\""),
+        );
+        fails(&t, &[], &["name", "plain file name", "out/NAME"]);
+    }
+}
+
+#[test]
+fn more_threads_than_cores_is_refused() {
+    // `--threads 100000` made rayon start them and the run hang with no message (issue 16,
+    // item 7).
+    let (line, _) = refused(&base(), &["--threads", "100000"]);
+    assert!(
+        line.contains("--threads") && line.contains("100000") && line.contains("cores"),
+        "{line}"
+    );
+}
+
+#[test]
+fn a_run_of_more_steps_than_the_limit_is_refused() {
+    // A step of 1e-300 s, or a Young's modulus of 1e308 Pa under the automatic step, planned
+    // 18446744073709551615 steps and ran forever (issue 16, item 4).
+    // 80 spheres: a sample that builds (the check needs the sample's step).
+    let t = common::small_oedometer(80, "\"contact\"", 0.001);
+    for set in ["time.dt=1e-300", "material.young=1e308"] {
+        let (line, _) = refused(&t, &["--set", set]);
+        assert!(
+            line.contains("time.dt") && line.contains("limit of 1e9 steps"),
+            "{set}: {line}"
+        );
+    }
+}

@@ -40,6 +40,36 @@ pub struct Clock {
     pub end_step: u64,
 }
 
+/// The most steps a run may plan to its end: at a microsecond per step (a tiny scene) that is
+/// 17 minutes, at the main job's milliseconds weeks. A scene that asks for more (a step of
+/// 1e-300 s, or a Young's modulus of 1e308 Pa under `time.dt = "auto"`) used to plan
+/// 18446744073709551615 steps and run forever.
+pub const MAX_STEPS: f64 = 1e9;
+
+/// Refuses a loading of `end_time` seconds at steps of `dt` seconds that needs more than
+/// [`MAX_STEPS`] steps, naming `time.dt`; an endless loading (driven from outside) passes.
+pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> {
+    if end_time.is_infinite() && end_time > 0.0 {
+        return Ok(());
+    }
+    let steps = end_time / dt;
+    if steps.is_finite() && steps <= MAX_STEPS {
+        return Ok(());
+    }
+    let how = match scene.time.dt {
+        crate::scene::DtSpec::Auto => {
+            " (auto: time.safety x the critical step of the material and sample)"
+        }
+        crate::scene::DtSpec::Seconds(_) => "",
+    };
+    Err(scene.key_error(
+        "time.dt",
+        format!(
+            "= {dt:.4e} s{how} needs {steps:.2e} steps to reach the end of the loading at {end_time:.4e} s, more than the limit of 1e9 steps: check time.dt, the material's stiffness and the loading"
+        ),
+    ))
+}
+
 /// The step at which a loading of `end_time` seconds ends (unbounded for an endless one).
 pub fn end_step(end_time: f64, dt: f64) -> u64 {
     if end_time.is_finite() {

@@ -50,8 +50,22 @@ pub const SIDE_RIM: u8 = 16;
 
 /// Edges made by the outline carry `OUTLINE_TAG - side bit`; bisectors carry the neighbour.
 const OUTLINE_TAG: u32 = u32::MAX;
-/// Sides of the polygon approximating a disc.
+/// Sides of the polygon approximating a disc: at most this many, and no shorter than
+/// [`DISC_SIDE_SPACINGS`] lattice spacings, so that a rim cell is cut by a few of them (a disc
+/// of 9 spacings across cut by 256 sides gave rim cells of more than 16 vertices, and a
+/// lattice that could not be built).
 const DISC_SIDES: usize = 256;
+const DISC_SIDE_SPACINGS: f64 = 0.4;
+
+/// The sides of the polygon approximating a disc of diameter `d` in a lattice of spacing `s`.
+fn disc_sides(d: f64, s: f64) -> usize {
+    let fit = (std::f64::consts::PI * d / (DISC_SIDE_SPACINGS * s)).ceil();
+    if fit >= DISC_SIDES as f64 {
+        DISC_SIDES
+    } else {
+        (fit as usize).max(16)
+    }
+}
 /// Squares searched in each direction around a point's own (see the module text).
 const REACH: i64 = 3;
 /// Vertices a cell may have while it is being cut.
@@ -186,7 +200,7 @@ pub fn vectorizable_random_lattice(
             let i = cy * nx + cx;
             let mut cell = voronoi_cell(&sites, nx, ny, cx, cy, &start);
             if radius.is_finite() {
-                clip_to_disc(&mut cell, radius);
+                clip_to_disc(&mut cell, radius, disc_sides(2.0 * radius, s));
             }
             cell.remove_short_edges(short);
             if cell.overflow || cell.len > MAX_VERTICES {
@@ -293,16 +307,16 @@ fn voronoi_cell(
     cell
 }
 
-/// Clips a cell to the 256-gon inscribed in the circle of `radius` about the origin.
-fn clip_to_disc(cell: &mut TaggedPolygon<WORK_CAPACITY>, radius: f64) {
-    let step = std::f64::consts::TAU / DISC_SIDES as f64;
+/// Clips a cell to the `sides`-gon inscribed in the circle of `radius` about the origin.
+fn clip_to_disc(cell: &mut TaggedPolygon<WORK_CAPACITY>, radius: f64, sides: usize) {
+    let step = std::f64::consts::TAU / sides as f64;
     let inner = radius * (0.5 * step).cos();
     let far = cell.vertices().iter().map(|v| v.norm()).fold(0.0, f64::max);
     if far <= inner {
         return;
     }
     let mut scratch = TaggedPolygon::default();
-    for k in 0..DISC_SIDES {
+    for k in 0..sides {
         let a = (k as f64 + 0.5) * step;
         let normal = Vec2::new(a.cos(), a.sin());
         if cell.clip_into(normal, inner, OUTLINE_TAG - SIDE_RIM as u32, &mut scratch) {
@@ -524,6 +538,36 @@ mod tests {
                 "cell {k}: {raster} vs {}",
                 s.polygons.area[k]
             );
+        }
+    }
+
+    /// Small discs (3.5 to 12 spacings across, fully disordered) build: their rim cells are cut
+    /// by a few sides of the disc's polygon, not by a tenth of 256 (a disc of 9.3 spacings
+    /// failed with a polygon of more than 16 vertices). Every polygon convex, the area within
+    /// the polygon's shortfall of the circle.
+    #[test]
+    fn small_discs_build() {
+        for (k, across) in [3.5, 5.0, 9.3, 12.0].into_iter().enumerate() {
+            for seed in 0..5 {
+                let d = across * 0.01;
+                let s = vectorizable_random_lattice(
+                    &spec(LatticeShape::Disc(d), 0.01),
+                    &mut rng(seed + 10 * k as u64),
+                )
+                .unwrap_or_else(|e| panic!("{across} spacings, seed {seed}: {e}"));
+                let p = &s.polygons;
+                let mut w = [Vec2::zeros(); MAX_VERTICES];
+                for i in 0..p.len() {
+                    let n = p.world_vertices(i, &mut w);
+                    assert!(is_convex_ccw(&w[..n]), "polygon {i}");
+                }
+                let area: f64 = p.area.iter().sum();
+                let circle = std::f64::consts::PI * d * d / 4.0;
+                assert!(
+                    area <= circle && area > 0.5 * circle,
+                    "{across}: {area} of {circle}"
+                );
+            }
         }
     }
 

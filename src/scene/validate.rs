@@ -96,6 +96,21 @@ pub(super) fn validate_common(s: &Scene) -> Result<()> {
     if s.name.trim().is_empty() {
         return Err(s.key_error("name", "must not be empty"));
     }
+    // The name becomes the output folder out/NAME when no --out is given: a plain file name.
+    let plain = s.name.len() <= 100
+        && !s.name.starts_with('.')
+        && s.name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+    if !plain {
+        return Err(s.key_error(
+            "name",
+            format!(
+                "= {:?} must be a plain file name of at most 100 characters: letters, digits, '_', '-' and '.', not starting with '.' (it names the output folder out/NAME)",
+                s.name
+            ),
+        ));
+    }
     let mut seen = Vec::new();
     for e in &s.effects {
         if seen.contains(e) {

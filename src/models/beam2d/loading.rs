@@ -219,6 +219,16 @@ impl Beam2dLoading {
         }
     }
 
+    /// The time (s) at which the run ends at the latest.
+    pub fn end_time(&self) -> f64 {
+        match self {
+            Beam2dLoading::ElasticModuli(d) => 2.0 * d.phase_duration(),
+            Beam2dLoading::ConfinedCompression(d) => d.phase_duration(),
+            Beam2dLoading::Explosion { end_time, .. }
+            | Beam2dLoading::Projectile { end_time, .. } => *end_time,
+        }
+    }
+
     /// The step at which the run ends at the latest.
     pub fn end_step(&self, dt: f64) -> u64 {
         let steps = |t: f64| crate::run::end_step(t, dt);

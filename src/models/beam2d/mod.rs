@@ -484,6 +484,7 @@ impl Model for Beam2d {
             ));
         }
         let columns = loading.columns().to_vec();
+        crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
         let end_step = loading.end_step(dt);
         let state = Beam2dState {
             forces: vec![[0.0; 3]; polygons.len()],

@@ -360,6 +360,7 @@ impl Model for Dlsm {
         let s = sample::build(scene, &cfg, progress)?;
         let (mut model, dt, warnings) = Dlsm::assemble(scene, cfg, s)?;
         let columns = model.state.loading.columns();
+        crate::run::check_planned_steps(scene, model.state.loading.end_time(), dt)?;
         let end = end_step(model.state.loading.end_time(), dt);
         let start = Clock {
             time: 0.0,

@@ -195,6 +195,7 @@ impl Granular {
             DtSpec::Auto => scene.time.safety * dt_rayleigh,
             DtSpec::Seconds(s) => s,
         };
+        crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
         let end = end_step(loading.end_time(), dt);
         let mut columns: Vec<&'static str> = if matches!(loading, Loading::Platens { .. }) {
             probe::PLATEN_COLUMNS.to_vec()
