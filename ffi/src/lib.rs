@@ -320,7 +320,8 @@ fn static_c_str(s: &'static str) -> Result<*const c_char, Failure> {
 
 /// Creates a simulation from a scene file, of whatever model its `model.kind` names.
 /// `overrides` are `count` strings `KEY=VALUE` as for `fractum run --set`; `threads` = 0 uses
-/// every core. On success `*handle` is set.
+/// every core, more than the machine has is refused (FRACTUM_ERR_INPUT). On success `*handle` is
+/// set.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_create_from_file(
     path: *const c_char,

@@ -64,6 +64,11 @@ def test_failures_raise_with_the_status_and_a_sentence():
         sim.advance_to(1e-6)
     assert e.value.status == "FRACTUM_ERR_HANDLE"
     assert fractum.version()
+    # More threads than cores: refused with the option and the core count, not a hang.
+    with pytest.raises(fractum.FractumError) as e:
+        fractum.Simulation(SCENE, overrides=QUIET, threads=100000)
+    assert e.value.status == "FRACTUM_ERR_INPUT"
+    assert "100000" in e.value.message and "cores" in e.value.message
 
 
 # The reduced sizes of tests/golden_summaries.rs.
