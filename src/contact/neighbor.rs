@@ -274,9 +274,16 @@ impl CellGrid {
             lo = Vec3::zeros();
             hi = Vec3::zeros();
         }
-        let extent = hi - lo;
+        let mut extent = hi - lo;
         let max_cells = (4 * pos.len()).max(64) as f64;
         let mut size = min_size.max(1e-300);
+        if !extent.iter().all(|e| e.is_finite()) || !size.is_finite() {
+            // A non-finite position (a run blowing up): one cell holds every body, so the step
+            // ends (the search below never would) and the run's finiteness check stops it.
+            lo = Vec3::zeros();
+            extent = Vec3::zeros();
+            size = 1.0;
+        }
         loop {
             let cells: f64 = extent.iter().map(|e| (e / size).floor() + 1.0).product();
             if cells <= max_cells {

@@ -455,17 +455,11 @@ impl<M: Model> Runner<M> {
         self.model.after_step(&mut self.clock, dt);
     }
 
-    /// At output steps: check the state is finite, let the model check its stability, and
+    /// After every step: check the state is finite (a pass over the bodies, cheap beside the
+    /// step; at output steps only, a run driven with a long output interval went on stepping
+    /// NaN and reported success). At output steps: let the model check its stability, and
     /// record a series row.
     fn after_step(&mut self) -> Result<()> {
-        let c = &self.clock;
-        let due = c.step % self.scene.output.every == 0
-            || c.step == c.end_step
-            || self.model.stopped()
-            || self.model.output_due(c);
-        if !due {
-            return Ok(());
-        }
         if let Some(i) = self.model.first_non_finite() {
             return Err(Error::run(format!(
                 "the run became unstable at step {} (t = {:e} s): {} {i} has a non-finite position or velocity; {}",
@@ -474,6 +468,14 @@ impl<M: Model> Runner<M> {
                 M::BODY,
                 self.model.instability_hint(&self.scene, &self.clock)
             )));
+        }
+        let c = &self.clock;
+        let due = c.step % self.scene.output.every == 0
+            || c.step == c.end_step
+            || self.model.stopped()
+            || self.model.output_due(c);
+        if !due {
+            return Ok(());
         }
         self.model
             .at_output(&self.scene, &mut self.clock, &mut self.warnings)?;
