@@ -147,10 +147,21 @@ pub fn initial_forces(points: &[Vec3], demand: &Demand) -> Vec<Vec3> {
     }
     let b = Vector6::new(force.x, force.y, force.z, torque.x, torque.y, torque.z);
     let aat: Matrix6<f64> = (&a * a.transpose()).fixed_view::<6, 6>(0, 0).into_owned();
-    let y = aat
-        .cholesky()
-        .map(|c| c.solve(&b))
-        .unwrap_or_else(|| aat.pseudo_inverse(1e-30).expect("6x6 pseudo-inverse") * b);
+    // A blowing-up run hands non-finite forces here, where the SVD of the fallback iterated
+    // for ever: NaN forces instead, which the run's finiteness check stops at this step.
+    let unsolved = || vec![Vec3::repeat(f64::NAN); n];
+    if !(b.iter().all(|v| v.is_finite()) && aat.iter().all(|v| v.is_finite())) {
+        return unsolved();
+    }
+    let y = match aat.cholesky() {
+        Some(c) => c.solve(&b),
+        None => match nalgebra::SVD::try_new(aat, true, true, f64::EPSILON, 1000)
+            .and_then(|svd| svd.pseudo_inverse(1e-30).ok())
+        {
+            Some(pinv) => pinv * b,
+            None => return unsolved(),
+        },
+    };
     let x: DVector<f64> = a.transpose() * DVector::from_column_slice(y.as_slice());
     (0..n)
         .map(|k| Vec3::new(x[3 * k], x[3 * k + 1], x[3 * k + 2]))
@@ -207,6 +218,38 @@ pub fn section_area(semi: &[f64; 6], k: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Non-finite demands (a run blowing up) give NaN forces at once; the SVD fallback used to
+    /// iterate for ever on them (issue 16, item 6). Collinear points (no Cholesky) with a
+    /// finite demand still give the resultant.
+    #[test]
+    fn initial_forces_never_loop_on_non_finite_input() {
+        let points = [Vec3::new(1e-4, 0.0, 0.0), Vec3::new(-1e-4, 0.0, 0.0)];
+        for bad in [f64::NAN, f64::INFINITY, -1e308 * 10.0] {
+            let demand = Demand {
+                force_a: Vec3::new(0.0, 0.0, bad),
+                torque_a: Vec3::zeros(),
+                force_b: Vec3::zeros(),
+                torque_b: Vec3::zeros(),
+                b_offset: Vec3::zeros(),
+            };
+            let f = initial_forces(&points, &demand);
+            assert!(
+                f.iter().all(|v| v.iter().all(|x| x.is_nan())),
+                "{bad}: {f:?}"
+            );
+        }
+        let demand = Demand {
+            force_a: Vec3::new(0.0, 0.0, 2.0),
+            torque_a: Vec3::zeros(),
+            force_b: Vec3::zeros(),
+            torque_b: Vec3::zeros(),
+            b_offset: Vec3::zeros(),
+        };
+        let f = initial_forces(&points, &demand);
+        let (total, _) = resultant(&points, &f);
+        assert!((total - Vec3::new(0.0, 0.0, 1.0)).norm() < 1e-12, "{total}");
+    }
 
     #[test]
     fn irwin_energy_of_silica() {
