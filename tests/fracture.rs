@@ -308,3 +308,39 @@ fn breaking_a_spring_injects_no_energy() {
         "spring work {work:e} J"
     );
 }
+
+/// `fractum explain` on the main job names fracture, its criteria and constants, Weibull and
+/// cohesion, and the step adaptation (issue 16, item 8: it mentioned none of them); without
+/// cohesion and Weibull it says so.
+#[test]
+fn explain_names_fracture_weibull_cohesion_and_the_step_rule() {
+    let file = common::repo().join("scenes/shpb_sand.toml");
+    let o = common::fractum(&common::repo(), &["explain", file.to_str().unwrap()]);
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    for want in [
+        "after each step: fracture:",
+        "Hoek-Brown (m_i = 20.56, sigma_c = 5.92e8 Pa)",
+        "sigma_fM = 3e9 Pa",
+        "+ weibull:",
+        "+ cohesion: the halves held by 4 springs",
+        "omega dt <= 0.600 (3 x 0.2)",
+    ] {
+        assert!(s.contains(want), "missing `{want}`: {s}");
+    }
+    let o = common::fractum(
+        &common::repo(),
+        &[
+            "explain",
+            file.to_str().unwrap(),
+            "--set",
+            "effects=[\"contact\", \"fracture\"]",
+        ],
+    );
+    let s = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        s.contains("(no weibull)") && s.contains("(no cohesion)"),
+        "{s}"
+    );
+}

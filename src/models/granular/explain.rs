@@ -5,7 +5,7 @@ use std::fmt::Write;
 use super::scene::{EFFECTS, GranularScene, LoadingKind, SampleKind};
 use crate::error::Result;
 use crate::explain::write_pipeline;
-use crate::scene::{DtSpec, Scene};
+use crate::scene::{DtSpec, EffectKind, Scene};
 
 /// A human-readable account of the scene: sample, force pipeline (and what is left out),
 /// loading, time step and outputs.
@@ -27,6 +27,9 @@ pub fn explain(scene: &Scene) -> Result<String> {
         &EFFECTS,
         "bodies move freely",
     );
+    if scene.has_effect(EffectKind::Fracture) {
+        let _ = writeln!(s, "after each step: {}", describe_fracture(scene, &cfg));
+    }
     let l = &cfg.loading;
     let loading = match l.kind {
         LoadingKind::None => format!(
@@ -46,6 +49,11 @@ pub fn explain(scene: &Scene) -> Result<String> {
     };
     let _ = writeln!(s, "loading: {loading}");
     let dt = match scene.time.dt {
+        DtSpec::Auto if scene.has_effect(EffectKind::Fracture) => format!(
+            "auto = {s} x the Rayleigh critical step of half the smallest sphere (the pieces), shortened as pieces appear to keep the bound on the highest contact frequency at omega dt <= {:.3} (3 x {s})",
+            super::ADAPT_PER_SAFETY * scene.time.safety,
+            s = scene.time.safety,
+        ),
         DtSpec::Auto => format!(
             "auto = {} x the Rayleigh critical step of the smallest sphere",
             scene.time.safety
@@ -64,6 +72,46 @@ pub fn explain(scene: &Scene) -> Result<String> {
         scene.output.every
     );
     Ok(s)
+}
+
+/// The fracture effect and the effects that refine it (weibull, cohesion), with their constants.
+fn describe_fracture(scene: &Scene, cfg: &GranularScene) -> String {
+    let p = super::fracture_params(scene, cfg);
+    let mut s = format!(
+        "fracture: a free grain splits into two sub-poly-ellipsoids when its average stress fails Hoek-Brown (m_i = {}, sigma_c = {:e} Pa) or when at least {} of its contacts exceed the contact tensile strength sigma_fM = {:e} Pa; break plane {}",
+        p.mi,
+        p.sigma_c,
+        p.critical_contacts,
+        p.sigma_f,
+        if p.ideal_plane {
+            "the ideal one for a sphere (Section 3.3), by the grain's stress or contacts otherwise"
+        } else {
+            "by the grain's stress or contacts"
+        }
+    );
+    if p.plane_jitter {
+        s.push_str(", turned by the random slight rotation");
+    }
+    match p.weibull {
+        Some((w, xm)) => {
+            let _ = write!(
+                s,
+                "; + weibull: both strengths scaled per grain by a Weibull factor (modulus {w}, reference radius {xm:e} m)"
+            );
+        }
+        None => s.push_str("; strengths the same for every grain (no weibull)"),
+    }
+    match p.cohesion {
+        Some((gc, ns)) => {
+            let _ = write!(
+                s,
+                "; + cohesion: the halves held by {ns} springs per break plane that soften to zero after taking G_c = {gc:.4} J/m2 (K_Ic = {:e} Pa m^0.5)",
+                cfg.fracture.toughness
+            );
+        }
+        None => s.push_str("; the halves free at once (no cohesion)"),
+    }
+    s
 }
 
 fn describe_sample(cfg: &GranularScene) -> String {
