@@ -17,7 +17,8 @@
 //! Environment: `FRACTUM_ENSEMBLE_SAFETY` (default `0.05,0.1,0.2,0.4`; runs go in this order),
 //! `FRACTUM_ENSEMBLE_SEEDS` (default `1,2,3,4,5`), `FRACTUM_ENSEMBLE_JOBS`, `FRACTUM_BIN` (the
 //! fractum binary to run; default the one cargo built: a copy keeps an ensemble on one build
-//! while the tree changes). Each finished run's summary.json is kept
+//! while the tree changes), `FRACTUM_ENSEMBLE_REPORT_ONLY` (set: report the finished runs, start
+//! none). Each finished run's summary.json is kept
 //! under target/shpb_ensemble/ with the binary's size and modification time in the folder name,
 //! so an interrupted ensemble picks up where it stopped and a rebuilt binary starts afresh.
 //! Asserts nothing. Full ensembles take hours on two cores: run on an idle machine.
@@ -59,7 +60,8 @@ fn binary_tag(bin: &Path) -> String {
 
 fn run_one(bin: &Path, dir: &Path, safety: &str, seed: &str) -> Option<Value> {
     let summary = dir.join("summary.json");
-    if !summary.exists() {
+    let report_only = std::env::var_os("FRACTUM_ENSEMBLE_REPORT_ONLY").is_some();
+    if !summary.exists() && !report_only {
         let status = Command::new(bin)
             .args([
                 "run",
