@@ -343,3 +343,47 @@ fn a_run_of_more_steps_than_the_limit_is_refused() {
         );
     }
 }
+
+#[test]
+fn sizes_beyond_the_body_limit_are_refused_before_allocating() {
+    // 10^9 spheres allocated until the process aborted (exit 134, 4 GB); hcp layers of 10^7
+    // each panicked on capacity overflow; 10^9 dlsm elements likewise (issue 16, items 1, 2).
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for (scene, set, key) in [
+        (
+            "oedometer_spheres.toml",
+            "sample.count=1000000000",
+            "sample.count",
+        ),
+        ("shpb_sand.toml", "sample.box=[1,1,1]", "sample.box"),
+        (
+            "shpb_hcp.toml",
+            "sample.layers=[10000000,10000000,10000000]",
+            "sample.layers",
+        ),
+        (
+            "dlsm_tensile.toml",
+            "sample.elements=1000000000",
+            "sample.elements",
+        ),
+    ] {
+        let file = common::repo().join("scenes").join(scene);
+        let o = common::fractum(
+            dir.path(),
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "--set",
+                set,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{scene} {set}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(key) && stderr.contains("10^7"), "{stderr}");
+        assert!(!out.exists());
+    }
+}

@@ -69,6 +69,22 @@ impl std::fmt::Display for Range {
     }
 }
 
+/// The most bodies (grains, elements, polygons) a scene may ask for: about 1 kB each with their
+/// contacts and history, 10 GB at the limit. More is refused at validation, before anything is
+/// allocated (10^9 spheres used to allocate until the process aborted).
+pub const MAX_BODIES: f64 = 1e7;
+
+/// `key` asks for about `n` bodies: refused above [`MAX_BODIES`], naming the key and the count.
+pub fn check_bodies(scene: &Scene, key: &str, n: f64, what: &str) -> Result<()> {
+    if n <= MAX_BODIES {
+        return Ok(());
+    }
+    Err(scene.key_error(
+        key,
+        format!("gives about {n:.3e} {what}, more than the 10^7 a run is built for (about 10 GB)"),
+    ))
+}
+
 /// `value` of `key` must lie in `range`, else one sentence naming both.
 pub fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> Result<()> {
     if range.contains(value) {

@@ -366,13 +366,5 @@ fn validate_lattice(s: &Scene, p: &SampleSpec) -> Result<()> {
             (d / spacing).powi(2)
         }
     };
-    if squares > 1e7 {
-        return Err(s.key_error(
-            "sample.spacing",
-            format!(
-                "= {spacing} m gives about {squares:.0} polygons, more than the 10^7 this model is built for"
-            ),
-        ));
-    }
-    Ok(())
+    crate::scene::validate::check_bodies(s, "sample.spacing", squares, "polygons")
 }

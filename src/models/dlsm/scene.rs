@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::error::Result;
-use crate::scene::validate::{Range, check, require};
+use crate::scene::validate::{Range, check, check_bodies, require};
 use crate::scene::{EffectKind, IntegratorKind, Scene};
 
 /// The elastic solid and its strength.
@@ -270,6 +270,7 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
             format!("= {n} is outside the allowed range [8, ∞)"),
         ));
     }
+    check_bodies(s, "sample.elements", n as f64, "elements")?;
     // Each applies to its method only and is ignored by the others, so that one scene can
     // switch methods with --set.
     if let Some(d) = p.noise {

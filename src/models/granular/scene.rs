@@ -5,7 +5,7 @@ use serde::Deserialize;
 
 use crate::error::Result;
 use crate::fracture::FractureSpec;
-use crate::scene::validate::{Range, check, require};
+use crate::scene::validate::{Range, check, check_bodies, require};
 use crate::scene::{EffectKind, NeighborSpec, Scene};
 
 /// Elastic and contact properties of the grains (and of the walls, which share them).
@@ -354,6 +354,7 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
                         s.key_error("sample.count", "= 0 is outside the allowed range [1, ∞)")
                     );
                 }
+                check_bodies(s, "sample.count", n as f64, "spheres")?;
             }
             if let Some(phi) = p.solid_fraction {
                 check(
@@ -363,6 +364,11 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
                     Range::open_closed(0.0, 0.65),
                     "",
                 )?;
+                if p.count.is_none() {
+                    let grain = 4.0 / 3.0 * std::f64::consts::PI * mean.powi(3);
+                    let n = phi * bx[0] * bx[1] * bx[2] / grain;
+                    check_bodies(s, "sample.box", n, "spheres at that solid fraction")?;
+                }
             }
             if p.count.is_none() && p.solid_fraction.is_none() {
                 return Err(s.key_error(
@@ -387,6 +393,8 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
                     "has a zero entry; each of [nx, ny, nz] must be in [1, ∞)",
                 ));
             }
+            let n = layers.iter().map(|&l| l as f64).product::<f64>();
+            check_bodies(s, "sample.layers", n, "spheres")?;
         }
         SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => {
             if p.file.is_none() {
