@@ -1208,7 +1208,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
 /// translation and rotation (block Gershgorin over the bodies, docs/performance.md): each
 /// contact loads each of its bodies by [`contact_load`], a body's row sums its contacts'
 /// [`frequency_share`]s, and the bound is [`frequency_bound`] of the largest row. Exact for two
-/// equal spheres (`sqrt(2 k / m)`); within 1.2-1.4x of the computed highest frequency
+/// equal spheres (`sqrt(2 k / m)`); within 1.3-1.5x of the computed highest frequency
 /// ([`records_highest_frequency`]) in the main job.
 pub fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential: f64) -> f64 {
     let mut rows = vec![0.0; bodies.len()];
