@@ -26,13 +26,11 @@ fn main() {
     ];
     let scene = Scene::load(Path::new("scenes/shpb_sand.toml"), &set).unwrap();
     let mut sim = Simulation::new(scene, 1, &mut |_| {}).unwrap();
-    let nu = sim.model.cfg.material.poisson();
-    // The Mindlin tangential stiffness over the normal, 8 G* / (2 E*), for E = 1.
-    let (g, e) = (0.5 / (1.0 + nu), 1.0);
-    let t = tangential_ratio(
-        8.0 * g / (2.0 * (2.0 - nu)),
-        2.0 * e / (2.0 * (1.0 - nu * nu)),
-    );
+    // The Mindlin tangential stiffness over the normal, as the run's own bound reads it.
+    let k = fractum::models::granular::contact_params(&sim.scene, &sim.model.cfg, None);
+    let t = k.mindlin.map_or(0.0, |m| {
+        tangential_ratio(8.0 * m.g_eff, 2.0 * k.hertz.e_eff)
+    });
     println!(
         "| step | bodies | dt (ns) | bound ω (rad/s) | computed ω | bound / computed | bound ω dt | computed ω dt | mode body: shape, translation share |"
     );
