@@ -387,3 +387,63 @@ fn sizes_beyond_the_body_limit_are_refused_before_allocating() {
         assert!(!out.exists());
     }
 }
+
+/// Issue 16 items 9 and 10: a checkpoint carries a format version and a checksum; damaged
+/// copies (single bit flips spread over the file, truncations) are refused by `resume` with one
+/// sentence naming the file, exit code 2 and no output folder, never resumed, never a panic.
+#[test]
+fn damaged_checkpoints_are_refused() {
+    let (dir, file) = common::scene_file(&common::small_oedometer(300, "\"contact\"", 0.002));
+    let whole = dir.path().join("whole");
+    let o = common::fractum(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            whole.to_str().unwrap(),
+            "--quiet",
+            "--checkpoint-every",
+            "50",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let good = whole.join("checkpoints/step_000000050.fcp");
+    let bytes = std::fs::read(&good).unwrap();
+    let damaged = dir.path().join("damaged.fcp");
+    let out = dir.path().join("resumed");
+    let mut tries: Vec<Vec<u8>> = (0..60)
+        .map(|k| {
+            let mut b = bytes.clone();
+            b[(k * 7919 + 11) % bytes.len()] ^= 1 << (k % 8);
+            b
+        })
+        .collect();
+    tries.extend([0, 8, bytes.len() / 2, bytes.len() - 1].map(|cut| bytes[..cut].to_vec()));
+    for (k, b) in tries.iter().enumerate() {
+        std::fs::write(&damaged, b).unwrap();
+        let o = common::fractum(
+            dir.path(),
+            &[
+                "resume",
+                damaged.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "try {k}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "try {k}: {stderr}");
+        assert!(
+            stderr.contains(damaged.to_str().unwrap())
+                && (stderr.contains("not a usable checkpoint")
+                    || stderr.contains("not a Fractum checkpoint")),
+            "try {k}: {stderr}"
+        );
+        assert!(!out.exists(), "try {k}: no output folder");
+    }
+    // The undamaged copy resumes.
+    std::fs::write(&damaged, &bytes).unwrap();
+    common::resume(dir.path(), &damaged, &out);
+}

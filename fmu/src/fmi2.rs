@@ -17,6 +17,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, OnceLock};
 
 use fmi_sys::fmi2::*;
+use fractum::output::sealed;
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
 
@@ -701,8 +702,17 @@ pub extern "C" fn fmi2FreeFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -
     })
 }
 
+/// What a serialized FMU state starts with, and its format version (sealed: length and
+/// checksum too, so a damaged state is refused before it is decoded).
+const STATE_MAGIC: &[u8; 8] = b"FRACTUMF";
+const STATE_VERSION: u32 = 1;
+
 fn serialize(saved: &Saved) -> Vec<u8> {
-    postcard::to_stdvec(saved).expect("FMU state serialises")
+    sealed::seal(
+        STATE_MAGIC,
+        STATE_VERSION,
+        &postcard::to_stdvec(saved).expect("FMU state serialises"),
+    )
 }
 
 #[unsafe(no_mangle)]
@@ -756,6 +766,8 @@ pub extern "C" fn fmi2DeSerializeFMUstate(
         }
         // SAFETY: the host passes `size` readable bytes.
         let data = unsafe { std::slice::from_raw_parts(bytes as *const u8, size) };
+        let data = sealed::open(data, STATE_MAGIC, STATE_VERSION)
+            .map_err(|why| format!("the serialized FMU state is not usable: it {why}"))?;
         let saved: Saved = postcard::from_bytes(data)
             .map_err(|e| format!("the serialized FMU state is damaged ({e})"))?;
         let fresh = Box::into_raw(Box::new(saved)) as fmi2FMUstate;

@@ -172,6 +172,32 @@ struct CheckScratch {
 const STREAM_FRACTURE: u64 = 11;
 
 impl GrainFracture {
+    /// Whether the per-body arrays fit `n` bodies and every spring and piece points at a body
+    /// and grain that exist (a restored state is checked before it is stepped).
+    pub fn check_lengths(&self, n: usize) -> Result<(), String> {
+        crate::state::check_lengths(
+            n,
+            &[
+                ("strength", self.strength.len()),
+                ("origin", self.origin.len()),
+                ("generation", self.generation.len()),
+                ("bonds", self.bonds.len()),
+            ],
+        )?;
+        if let Some(s) = self
+            .springs
+            .iter()
+            .find(|s| s.a as usize >= n || s.b as usize >= n)
+        {
+            return Err(format!("a spring joins bodies {} and {} of {n}", s.a, s.b));
+        }
+        let grains = self.broken.len();
+        if let Some(o) = self.origin.iter().find(|&&o| o as usize >= grains) {
+            return Err(format!("a piece comes from grain {o} of {grains}"));
+        }
+        Ok(())
+    }
+
     pub fn new(params: FractureParams, seed: u64, bodies: &Bodies) -> Self {
         let n = bodies.len();
         let mut f = GrainFracture {

@@ -1,21 +1,25 @@
 //! Checkpoints: the whole state of a run in one binary file (postcard encoding), with the
-//! scene text and overrides it was built from, so `fractum resume` continues bit for bit.
+//! scene text and overrides it was built from, so `fractum resume` continues bit for bit. The
+//! file is sealed ([`super::sealed`]: magic, format version, length, checksum), so a damaged
+//! or foreign file is refused with a sentence before anything in it is decoded.
 
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
 use super::Frame;
+use super::sealed::{self, Refused};
 use crate::error::{Error, Result};
 use crate::run::Run;
 use crate::scene::{Scene, io_reason};
 
-const MAGIC: &[u8; 8] = b"FRACTUM\x01";
-const FORMAT_VERSION: u32 = 3;
+const MAGIC: &[u8; 8] = b"FRACTUM\x02";
+/// The magic of format 3 and before (unsealed).
+const OLD_MAGIC: &[u8; 8] = b"FRACTUM\x01";
+const FORMAT_VERSION: u32 = 4;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {
-    format_version: u32,
     fractum_version: String,
     model: String,
     scene_text: String,
@@ -31,7 +35,6 @@ struct Checkpoint {
 pub fn encode(run: &dyn Run, frames: &[Frame]) -> Vec<u8> {
     let src = &run.scene().source;
     let ck = Checkpoint {
-        format_version: FORMAT_VERSION,
         fractum_version: env!("CARGO_PKG_VERSION").to_string(),
         model: run.model().to_string(),
         scene_text: src.text.clone(),
@@ -41,9 +44,11 @@ pub fn encode(run: &dyn Run, frames: &[Frame]) -> Vec<u8> {
         frames: frames.to_vec(),
         state: run.save_state(),
     };
-    let mut bytes = MAGIC.to_vec();
-    bytes.extend(postcard::to_stdvec(&ck).expect("checkpoint serialises"));
-    bytes
+    sealed::seal(
+        MAGIC,
+        FORMAT_VERSION,
+        &postcard::to_stdvec(&ck).expect("checkpoint serialises"),
+    )
 }
 
 /// What a checkpoint holds: the scene it was built from, the model's name, the run's state
@@ -57,20 +62,19 @@ pub struct Saved {
 
 /// Reads checkpoint bytes (`origin` names them in messages).
 pub fn decode(bytes: &[u8], origin: &str) -> Result<Saved> {
-    let body = bytes
-        .strip_prefix(MAGIC.as_slice())
-        .ok_or_else(|| Error::input(origin, "is not a Fractum checkpoint"))?;
-    let ck: Checkpoint = postcard::from_bytes(body)
-        .map_err(|e| Error::input(origin, format!("is a damaged checkpoint ({e})")))?;
-    if ck.format_version != FORMAT_VERSION {
-        return Err(Error::input(
+    let body = sealed::open(bytes, MAGIC, FORMAT_VERSION).map_err(|why| match why {
+        Refused::Foreign if bytes.starts_with(OLD_MAGIC) => Error::input(
             origin,
             format!(
-                "has checkpoint format {}, this Fractum reads format {FORMAT_VERSION}",
-                ck.format_version
+                "is a checkpoint of format 3 or before, this Fractum reads format \
+                 {FORMAT_VERSION}: resume it with the Fractum that wrote it"
             ),
-        ));
-    }
+        ),
+        Refused::Foreign => Error::input(origin, "is not a Fractum checkpoint"),
+        why => Error::input(origin, format!("is not a usable checkpoint: it {why}")),
+    })?;
+    let ck: Checkpoint = postcard::from_bytes(body)
+        .map_err(|e| Error::input(origin, format!("is a damaged checkpoint ({e})")))?;
     let scene = Scene::from_toml(
         &ck.scene_text,
         &ck.scene_label,

@@ -2,6 +2,7 @@
 //! the same folder and renamed into place, so a reader never sees half a file.
 
 pub mod checkpoint;
+pub mod sealed;
 pub mod vtk;
 // beam2d: polygons and beams for ParaView.
 pub mod vtk_polygons;

@@ -16,6 +16,7 @@
 //! ```
 
 use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use serde::de::DeserializeOwned;
 use serde::{Deserialize, Serialize};
@@ -278,11 +279,81 @@ pub trait Run: Send {
     fn kinetic_energy(&self) -> f64;
     /// The driven faces, for models that have them (granular samples in a box).
     fn faces(&self) -> Option<&dyn Faces>;
+    /// Bounds every later `advance` / `advance_to` call (see [`CallLimits`]).
+    fn set_call_limits(&mut self, limits: CallLimits);
     /// Drives the top (z+) and bottom (z-) faces from outside from now on, at `top` and
     /// `bottom` m/s into the sample (compression positive); the run then has no end of its
     /// own. Fails for a model without such faces.
     fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()>;
 }
+
+/// Bounds on each `advance` / `advance_to` call, for hosts that embed a run (the C ABI):
+/// a call stops with [`Error::Interrupted`] before a step once it has taken `max_steps` steps
+/// or run `max_seconds` of wall time, or once `cancel` is set (from any thread; the stop
+/// clears it). Always at a whole step: the run stays consistent and the next call goes on.
+/// Not part of the saved state.
+#[derive(Debug, Clone, Default)]
+pub struct CallLimits {
+    /// Most steps one call takes (0: no bound).
+    pub max_steps: u64,
+    /// Most wall-clock seconds one call runs (0: no bound).
+    pub max_seconds: f64,
+    /// Set to stop the call in progress, or the next one, before its next step.
+    pub cancel: Option<Arc<AtomicBool>>,
+}
+
+/// One call's account against its [`CallLimits`].
+struct Budget<'a> {
+    limits: &'a CallLimits,
+    start: std::time::Instant,
+    steps: u64,
+}
+
+impl<'a> Budget<'a> {
+    fn start(limits: &'a CallLimits) -> Self {
+        Budget {
+            limits,
+            start: std::time::Instant::now(),
+            steps: 0,
+        }
+    }
+
+    /// Before each step: an interruption when a bound has run out, else counts the step.
+    fn before_step(&mut self, clock: &Clock) -> Result<()> {
+        let l = self.limits;
+        let why = if l
+            .cancel
+            .as_ref()
+            .is_some_and(|c| c.swap(false, Ordering::AcqRel))
+        {
+            Some("it was cancelled".to_string())
+        } else if l.max_steps > 0 && self.steps >= l.max_steps {
+            Some(format!(
+                "its bound of {} steps per call ran out",
+                l.max_steps
+            ))
+        } else if l.max_seconds > 0.0 && self.start.elapsed().as_secs_f64() >= l.max_seconds {
+            Some(format!(
+                "its bound of {} s of wall time per call ran out",
+                l.max_seconds
+            ))
+        } else {
+            None
+        };
+        if let Some(why) = why {
+            return Err(Error::Interrupted(format!(
+                "the call stopped after {} steps at step {} (t = {:e} s) because {why}; the run is consistent and the next call goes on from here",
+                self.steps, clock.step, clock.time
+            )));
+        }
+        self.steps += 1;
+        Ok(())
+    }
+}
+
+/// What a run's saved state ([`Run::save_state`]) starts with, and its format version.
+const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
+const STATE_VERSION: u32 = 1;
 
 /// The runner's part of a checkpoint; the model's own bytes ride along.
 #[derive(Serialize, Deserialize)]
@@ -305,6 +376,8 @@ pub struct Runner<M> {
     last_row: Option<u64>,
     /// The run's worker threads; `None` runs everything on the caller's thread.
     pool: Option<Arc<rayon::ThreadPool>>,
+    /// Bounds on each advance call (not saved).
+    limits: CallLimits,
 }
 
 impl<M> std::ops::Deref for Runner<M> {
@@ -351,6 +424,7 @@ impl<M: Model> Runner<M> {
             warnings: built.warnings,
             model: built.model,
             last_row: None,
+            limits: CallLimits::default(),
             pool,
         };
         run.record_row();
@@ -359,6 +433,13 @@ impl<M: Model> Runner<M> {
 
     /// Restores a run from the bytes [`Run::save_state`] wrote for this scene.
     pub fn restore(scene: Scene, bytes: &[u8], threads: usize) -> Result<Self> {
+        let bytes =
+            crate::output::sealed::open(bytes, STATE_MAGIC, STATE_VERSION).map_err(|why| {
+                Error::run(format!(
+                    "the saved {} state is not usable: it {why}",
+                    M::KIND
+                ))
+            })?;
         let s: RunnerState = postcard::from_bytes(bytes).map_err(|e| {
             Error::run(format!(
                 "the checkpoint's {} state is damaged ({e})",
@@ -374,6 +455,7 @@ impl<M: Model> Runner<M> {
             warnings: s.warnings,
             model,
             last_row: s.last_row,
+            limits: CallLimits::default(),
             pool,
         })
     }
@@ -401,7 +483,10 @@ impl<M: Model> Runner<M> {
             .saturating_add(steps)
             .min(self.clock.end_step);
         self.on_threads(|run| {
+            let limits = run.limits.clone();
+            let mut budget = Budget::start(&limits);
             while run.clock.step < target && !run.model.stopped() {
+                budget.before_step(&run.clock)?;
                 run.step_by(run.clock.dt);
                 run.after_step()?;
             }
@@ -433,7 +518,10 @@ impl<M: Model> Runner<M> {
         self.on_threads(|run| {
             // A remainder below this is rounding, not a step to take.
             let tiny = 1e-9 * run.clock.dt;
+            let limits = run.limits.clone();
+            let mut budget = Budget::start(&limits);
             while time - run.clock.time > tiny && !run.model.stopped() {
+                budget.before_step(&run.clock)?;
                 let h = (time - run.clock.time).min(run.clock.dt);
                 if time - run.clock.time - h <= tiny {
                     run.step_by(time - run.clock.time);
@@ -555,7 +643,11 @@ impl<M: Model> Run for Runner<M> {
             last_row: self.last_row,
             model: self.model.save(),
         };
-        postcard::to_stdvec(&state).expect("the run's state serialises")
+        crate::output::sealed::seal(
+            STATE_MAGIC,
+            STATE_VERSION,
+            &postcard::to_stdvec(&state).expect("the run's state serialises"),
+        )
     }
     fn status(&self) -> String {
         self.model.status(&self.clock)
@@ -583,6 +675,9 @@ impl<M: Model> Run for Runner<M> {
     }
     fn faces(&self) -> Option<&dyn Faces> {
         self.model.faces()
+    }
+    fn set_call_limits(&mut self, limits: CallLimits) {
+        self.limits = limits;
     }
     fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()> {
         let faces = self.model.faces_mut().ok_or_else(|| {

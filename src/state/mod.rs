@@ -45,6 +45,24 @@ impl Bodies {
         self.pos.is_empty()
     }
 
+    /// Whether every per-body array has one entry per body (a restored state is checked before
+    /// it is stepped); the first that does not, named.
+    pub fn check_lengths(&self) -> std::result::Result<(), String> {
+        let n = self.len();
+        let lens = [
+            ("vel", self.vel.len()),
+            ("omega", self.omega.len()),
+            ("orientation", self.orientation.len()),
+            ("radius", self.radius.len()),
+            ("mass", self.mass.len()),
+            ("inv_mass", self.inv_mass.len()),
+            ("inertia", self.inertia.len()),
+            ("inv_inertia", self.inv_inertia.len()),
+            ("shape", self.shape.len()),
+        ];
+        check_lengths(n, &lens)
+    }
+
     /// Adds a sphere at rest.
     pub fn push_sphere(
         &mut self,
@@ -332,4 +350,12 @@ pub fn spatial_order(pos: &[Vec3], cell: f64) -> Vec<usize> {
     let mut order: Vec<usize> = (0..pos.len()).collect();
     order.sort_by_key(|&i| key(&pos[i]));
     order
+}
+
+/// Whether each named array has `n` entries; the first that does not, named.
+pub fn check_lengths(n: usize, lens: &[(&str, usize)]) -> std::result::Result<(), String> {
+    match lens.iter().find(|(_, len)| *len != n) {
+        Some((name, len)) => Err(format!("{name} has {len} entries for {n} bodies")),
+        None => Ok(()),
+    }
 }

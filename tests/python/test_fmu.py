@@ -119,6 +119,30 @@ def test_get_set_and_serialized_states_replay_bit_for_bit(unzipped):
     fmu.freeInstance()
 
 
+def test_damaged_serialized_states_are_refused(unzipped):
+    # Issue 16 item 9: a serialized state carries a format version and a checksum.
+    fmu = slave(unzipped, "damaged")
+    t = run(fmu, 0.0, 2e-6, 2)
+    state = fmu.getFMUState()
+    blob = bytes(fmu.serializeFMUState(state))
+    first = fmu.getReal(OUTPUTS)
+    for k in range(12):
+        damaged = bytearray(blob)
+        damaged[(k * 7919 + 3) % len(blob)] ^= 1 << (k % 8)
+        with pytest.raises(Exception):
+            fmu.deserializeFMUState(bytes(damaged))
+    with pytest.raises(Exception):
+        fmu.deserializeFMUState(blob[: len(blob) // 2])
+    assert fmu.getReal(OUTPUTS) == first
+    restored = fmu.deserializeFMUState(blob)
+    fmu.setFMUState(restored)
+    run(fmu, t, 2e-6, 1)
+    fmu.freeFMUState(state)
+    fmu.freeFMUState(restored)
+    fmu.terminate()
+    fmu.freeInstance()
+
+
 def test_reset_then_initialisation_starts_over(unzipped):
     fmu = slave(unzipped, "reset")
     run(fmu, 0.0, 1e-5, 3)

@@ -617,6 +617,28 @@ impl Model for Granular {
         type Saved = (GranularState, Vec<(String, Vec<u8>)>);
         let (state, effects): Saved = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's granular state is damaged ({e})")))?;
+        let n = state.bodies.len();
+        state
+            .bodies
+            .check_lengths()
+            .and_then(|()| {
+                crate::state::check_lengths(
+                    n,
+                    &[
+                        ("force", state.forces.force.len()),
+                        ("torque", state.forces.torque.len()),
+                    ],
+                )
+            })
+            .and_then(|()| {
+                state
+                    .fracture
+                    .as_ref()
+                    .map_or(Ok(()), |f| f.check_lengths(n))
+            })
+            .map_err(|why| {
+                Error::run(format!("the saved granular state is inconsistent: {why}"))
+            })?;
         let mut model = Granular::with_state(scene, scene.section()?, state);
         model.pipeline.restore(&effects)?;
         Ok(model)
