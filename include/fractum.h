@@ -28,6 +28,10 @@ typedef enum FractumStatus {
   // The call does not apply to this run's model (face calls on a model without driven
   // faces, radii of a model without grains); the message names the model. Nothing changed.
   FRACTUM_ERR_MODEL = 7,
+  // `fractum_advance` / `fractum_advance_to` stopped early, before a step, because a bound
+  // of `fractum_set_call_limits` ran out or `fractum_cancel` was called; the message says
+  // which and where. The run is consistent: call again to go on.
+  FRACTUM_INTERRUPTED = 8,
 } FractumStatus;
 
 // An opaque simulation handle (0 is never a valid handle).
@@ -276,6 +280,22 @@ enum FractumStatus fractum_advance(FractumHandle handle, uint64_t steps);
 // only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN before taking any step.
 enum FractumStatus fractum_advance_to(FractumHandle handle, double time);
 
+// Bounds each later `fractum_advance` / `fractum_advance_to` call on this simulation: it
+// stops with `FRACTUM_INTERRUPTED`, before a step, once it has taken `max_steps` steps or run
+// `max_seconds` seconds of wall time (0 for either: no bound; both 0, the default: no
+// bounds). A call may end with `FRACTUM_OK` short of its target only where the run ends
+// (`fractum_finished`). The bounds are not part of the saved state. Negative or non-finite
+// `max_seconds` is refused with `FRACTUM_ERR_INPUT`.
+enum FractumStatus fractum_set_call_limits(FractumHandle handle,
+                                           uint64_t max_steps,
+                                           double max_seconds);
+
+// Asks the `fractum_advance` / `fractum_advance_to` call in progress on this simulation (in
+// another thread), or else the next one, to stop before its next step with
+// `FRACTUM_INTERRUPTED`; that stop clears the request. Safe to call from any thread at any
+// time: it does not wait for the call in progress.
+enum FractumStatus fractum_cancel(FractumHandle handle);
+
 // `*finished` = 1 once the run has reached the scene's end (or the model stopped it, e.g.
 // after failure), else 0. A run whose faces are driven from outside has no end.
 enum FractumStatus fractum_finished(FractumHandle handle, int32_t *finished);
@@ -369,7 +389,8 @@ enum FractumStatus fractum_save_state(FractumHandle handle,
                                       size_t *written);
 
 // Restores a state saved by `fractum_save_state` from the same scene; the run then continues
-// bit for bit.
+// bit for bit. A state carries a format version and a checksum: damaged, truncated or foreign
+// bytes are refused with `FRACTUM_ERR_RUN` and the run is left as it was.
 enum FractumStatus fractum_restore_state(FractumHandle handle, const uint8_t *buf, size_t len);
 
 // Returns the simulation to the state it had right after creation.

@@ -15,6 +15,11 @@ pub enum Error {
     /// A failure while running or writing results.
     #[error("{0}")]
     Run(String),
+    /// An `advance` call stopped early, at a whole step, because its bounds
+    /// ([`crate::run::CallLimits`]) ran out or it was cancelled. The run is consistent and
+    /// may be advanced again.
+    #[error("{0}")]
+    Interrupted(String),
 }
 
 impl Error {
@@ -38,7 +43,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Input { .. } => 2,
-            Error::Run(_) => 1,
+            Error::Run(_) | Error::Interrupted(_) => 1,
         }
     }
 }

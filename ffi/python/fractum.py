@@ -40,9 +40,11 @@ _STATUS = {
     5: "FRACTUM_ERR_BUFFER",
     6: "FRACTUM_ERR_INTERNAL",
     7: "FRACTUM_ERR_MODEL",
+    8: "FRACTUM_INTERRUPTED",
 }
 
 _ERR_BUFFER = 5
+_INTERRUPTED = 8
 _ERR_MODEL = 7
 
 
@@ -58,6 +60,12 @@ class FractumError(RuntimeError):
 class ModelError(FractumError):
     """The call does not apply to this run's model (FRACTUM_ERR_MODEL): the SHPB face calls
     and radii on a dlsm or beam2d run, or on a granular one without a box. Nothing changed."""
+
+
+class Interrupted(FractumError):
+    """An advance call stopped early, before a step, because a bound of `set_call_limits` ran
+    out or `cancel` was called (FRACTUM_INTERRUPTED). The run is consistent: call again to go
+    on."""
 
 
 _lib = None
@@ -114,6 +122,8 @@ def load_library(path=None):
         "fractum_save_state": [u64, p(ctypes.c_uint8), sz, p(sz)],
         "fractum_restore_state": [u64, p(ctypes.c_uint8), sz],
         "fractum_reset": [u64],
+        "fractum_set_call_limits": [u64, u64, d],
+        "fractum_cancel": [u64],
     }
     for name, args in sigs.items():
         f = getattr(lib, name)
@@ -130,7 +140,8 @@ def load_library(path=None):
 def _check(status):
     if status != 0:
         message = load_library().fractum_last_error().decode("utf-8", "replace")
-        raise (ModelError if status == _ERR_MODEL else FractumError)(status, message)
+        kind = {_ERR_MODEL: ModelError, _INTERRUPTED: Interrupted}.get(status, FractumError)
+        raise kind(status, message)
 
 
 def version():
@@ -213,6 +224,16 @@ class Simulation:
         """Advances to exactly `time` (s). beam2d with Gear5 takes whole steps only and
         refuses a time between them (FractumError, FRACTUM_ERR_RUN)."""
         self._call("fractum_advance_to", float(time))
+
+    def set_call_limits(self, max_steps=0, max_seconds=0.0):
+        """Bounds each later advance call: it raises Interrupted, before a step, once it has
+        taken `max_steps` steps or run `max_seconds` of wall time (0: no bound)."""
+        self._call("fractum_set_call_limits", int(max_steps), float(max_seconds))
+
+    def cancel(self):
+        """Stops the advance call in progress in another thread (or else the next one) before
+        its next step: that call raises Interrupted. Does not wait."""
+        self._call("fractum_cancel")
 
     def finished(self):
         """True once the run has reached the scene's end (or the model stopped it)."""

@@ -19,9 +19,10 @@ use std::collections::HashMap;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::Path;
-use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 
+use fractum::run::CallLimits;
 use fractum::{Error, Run, Scene};
 
 mod kernels;
@@ -52,6 +53,10 @@ pub enum FractumStatus {
     /// The call does not apply to this run's model (face calls on a model without driven
     /// faces, radii of a model without grains); the message names the model. Nothing changed.
     FRACTUM_ERR_MODEL = 7,
+    /// `fractum_advance` / `fractum_advance_to` stopped early, before a step, because a bound
+    /// of `fractum_set_call_limits` ran out or `fractum_cancel` was called; the message says
+    /// which and where. The run is consistent: call again to go on.
+    FRACTUM_INTERRUPTED = 8,
 }
 
 use FractumStatus::*;
@@ -90,12 +95,22 @@ struct Entry {
     sim: Sim,
     /// The state right after creation, for `fractum_reset`.
     initial: Vec<u8>,
+    /// The bounds on each advance call (`fractum_set_call_limits`, `fractum_cancel`), handed
+    /// to the run before each call (a restored run starts without them).
+    limits: CallLimits,
+}
+
+/// A live simulation: its entry, and its cancel flag outside the entry's lock, so
+/// `fractum_cancel` reaches it while another thread holds the entry in an advance call.
+struct Slot {
+    entry: Mutex<Entry>,
+    cancel: Arc<AtomicBool>,
 }
 
 type Failure = (FractumStatus, String);
 
 /// The live simulations by handle.
-type Registry = Mutex<HashMap<u64, Arc<Mutex<Entry>>>>;
+type Registry = Mutex<HashMap<u64, Arc<Slot>>>;
 
 fn registry() -> &'static Registry {
     static REGISTRY: OnceLock<Registry> = OnceLock::new();
@@ -141,6 +156,7 @@ fn from_error(e: Error) -> Failure {
     let status = match e {
         Error::Input { .. } => FRACTUM_ERR_INPUT,
         Error::Run(_) => FRACTUM_ERR_RUN,
+        Error::Interrupted(_) => FRACTUM_INTERRUPTED,
     };
     (status, e.to_string())
 }
@@ -202,21 +218,28 @@ fn register(scene: Scene, threads: i32, out: *mut FractumHandle) -> Result<(), F
     let sim = Sim::build(scene, threads).map_err(from_error)?;
     let initial = sim.run().save_state();
     let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
+    let cancel = Arc::new(AtomicBool::new(false));
+    let limits = CallLimits {
+        cancel: Some(cancel.clone()),
+        ..CallLimits::default()
+    };
+    let entry = Mutex::new(Entry {
+        sim,
+        initial,
+        limits,
+    });
     registry()
         .lock()
         .map_err(|_| poisoned())?
-        .insert(handle, Arc::new(Mutex::new(Entry { sim, initial })));
+        .insert(handle, Arc::new(Slot { entry, cancel }));
     // SAFETY: checked non-null above.
     unsafe { *out = handle };
     Ok(())
 }
 
-/// Runs `f` on the simulation behind `handle`.
-fn with_sim<T>(
-    handle: FractumHandle,
-    f: impl FnOnce(&mut Entry) -> Result<T, Failure>,
-) -> Result<T, Failure> {
-    let entry = registry()
+/// The live simulation behind `handle`.
+fn slot(handle: FractumHandle) -> Result<Arc<Slot>, Failure> {
+    registry()
         .lock()
         .map_err(|_| poisoned())?
         .get(&handle)
@@ -228,8 +251,16 @@ fn with_sim<T>(
                     "handle {handle} is not a live Fractum simulation (never created, or freed)"
                 ),
             )
-        })?;
-    let mut entry = entry.lock().map_err(|_| {
+        })
+}
+
+/// Runs `f` on the simulation behind `handle`.
+fn with_sim<T>(
+    handle: FractumHandle,
+    f: impl FnOnce(&mut Entry) -> Result<T, Failure>,
+) -> Result<T, Failure> {
+    let slot = slot(handle)?;
+    let mut entry = slot.entry.lock().map_err(|_| {
         (
             FRACTUM_ERR_INTERNAL,
             "this simulation failed earlier; free it".to_string(),
@@ -397,6 +428,7 @@ pub extern "C" fn fractum_model(handle: FractumHandle, kind: *mut *const c_char)
 pub extern "C" fn fractum_advance(handle: FractumHandle, steps: u64) -> FractumStatus {
     guard(|| {
         with_sim(handle, |e| {
+            e.sim.run_mut().set_call_limits(e.limits.clone());
             e.sim.run_mut().advance(steps).map_err(from_error)
         })
     })
@@ -409,8 +441,50 @@ pub extern "C" fn fractum_advance(handle: FractumHandle, steps: u64) -> FractumS
 pub extern "C" fn fractum_advance_to(handle: FractumHandle, time: f64) -> FractumStatus {
     guard(|| {
         with_sim(handle, |e| {
+            e.sim.run_mut().set_call_limits(e.limits.clone());
             e.sim.run_mut().advance_to(time).map_err(from_error)
         })
+    })
+}
+
+/// Bounds each later `fractum_advance` / `fractum_advance_to` call on this simulation: it
+/// stops with `FRACTUM_INTERRUPTED`, before a step, once it has taken `max_steps` steps or run
+/// `max_seconds` seconds of wall time (0 for either: no bound; both 0, the default: no
+/// bounds). A call may end with `FRACTUM_OK` short of its target only where the run ends
+/// (`fractum_finished`). The bounds are not part of the saved state. Negative or non-finite
+/// `max_seconds` is refused with `FRACTUM_ERR_INPUT`.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_set_call_limits(
+    handle: FractumHandle,
+    max_steps: u64,
+    max_seconds: f64,
+) -> FractumStatus {
+    guard(|| {
+        if !(max_seconds.is_finite() && max_seconds >= 0.0) {
+            return Err((
+                FRACTUM_ERR_INPUT,
+                format!(
+                    "fractum_set_call_limits: max_seconds = {max_seconds} is outside [0, ∞) (0: no bound)"
+                ),
+            ));
+        }
+        with_sim(handle, |e| {
+            e.limits.max_steps = max_steps;
+            e.limits.max_seconds = max_seconds;
+            Ok(())
+        })
+    })
+}
+
+/// Asks the `fractum_advance` / `fractum_advance_to` call in progress on this simulation (in
+/// another thread), or else the next one, to stop before its next step with
+/// `FRACTUM_INTERRUPTED`; that stop clears the request. Safe to call from any thread at any
+/// time: it does not wait for the call in progress.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_cancel(handle: FractumHandle) -> FractumStatus {
+    guard(|| {
+        slot(handle)?.cancel.store(true, Ordering::Release);
+        Ok(())
     })
 }
 
@@ -736,7 +810,8 @@ pub extern "C" fn fractum_save_state(
 }
 
 /// Restores a state saved by `fractum_save_state` from the same scene; the run then continues
-/// bit for bit.
+/// bit for bit. A state carries a format version and a checksum: damaged, truncated or foreign
+/// bytes are refused with `FRACTUM_ERR_RUN` and the run is left as it was.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_restore_state(
     handle: FractumHandle,

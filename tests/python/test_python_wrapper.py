@@ -53,6 +53,69 @@ def test_saved_state_replays_bit_for_bit_and_reset_returns_to_the_start():
         assert sim.progress() == (0.0, 0.0, 0)
 
 
+def test_damaged_state_blobs_are_refused_and_leave_the_run_as_it_was():
+    # Issue 16 item 9: blobs carry a format version and a checksum (src/output/sealed.rs).
+    with fractum.Simulation(SCENE, overrides=QUIET) as sim:
+        sim.set_face_speeds(3.0, 0.0)
+        sim.advance_to(1e-6)
+        state = bytes(sim.save_state())
+        sim.advance_to(2e-6)
+        before = sim.positions()
+        rng = np.random.default_rng(16)
+        spots = list(rng.integers(0, len(state), 40)) + [0, 8, 12, len(state) - 1]
+        for byte in spots:
+            damaged = bytearray(state)
+            damaged[byte] ^= 1 << int(rng.integers(0, 8))
+            with pytest.raises(fractum.FractumError) as e:
+                sim.restore_state(bytes(damaged))
+            assert e.value.status == "FRACTUM_ERR_RUN", (byte, e.value.message)
+            assert "not usable" in e.value.message, (byte, e.value.message)
+        for cut in (0, 10, len(state) // 2, len(state) - 1):
+            with pytest.raises(fractum.FractumError):
+                sim.restore_state(state[:cut])
+        assert np.array_equal(sim.positions(), before)
+        sim.restore_state(state)
+        assert sim.progress()[0] == pytest.approx(1e-6, rel=1e-12)
+
+
+def test_advance_calls_can_be_bounded_and_cancelled():
+    # Issue 16 item 13: with still faces advance_to(1e9) ran indefinitely.
+    import threading
+    import time as clock
+
+    with fractum.Simulation(SCENE, overrides=QUIET) as sim:
+        sim.set_face_speeds(0.0, 0.0)
+        sim.set_call_limits(max_steps=30)
+        with pytest.raises(fractum.Interrupted) as e:
+            sim.advance_to(1e9)
+        assert e.value.status == "FRACTUM_INTERRUPTED" and "30 steps" in e.value.message
+        assert sim.progress()[2] == 30
+        with pytest.raises(fractum.Interrupted):
+            sim.advance(1000)
+        assert sim.progress()[2] == 60
+        sim.advance(10)  # within the bound: completes
+        assert sim.progress()[2] == 70
+        sim.set_call_limits(max_seconds=0.2)
+        with pytest.raises(fractum.Interrupted) as e:
+            sim.advance_to(1e9)
+        assert "wall time" in e.value.message
+        steps = sim.progress()[2]
+        assert steps > 70
+        # Cancelled from another thread while a call without bounds runs.
+        sim.set_call_limits()
+        threading.Timer(0.3, sim.cancel).start()
+        with pytest.raises(fractum.Interrupted) as e:
+            sim.advance_to(1e9)
+        assert "cancelled" in e.value.message and sim.progress()[2] > steps
+        # The stop cleared the request: the next call runs to its target.
+        t = sim.time()
+        sim.advance_to(t + 1e-8)
+        assert sim.time() == t + 1e-8
+        with pytest.raises(fractum.FractumError) as e:
+            sim.set_call_limits(max_seconds=-1.0)
+        assert e.value.status == "FRACTUM_ERR_INPUT" and "max_seconds" in e.value.message
+
+
 def test_failures_raise_with_the_status_and_a_sentence():
     with pytest.raises(fractum.FractumError) as e:
         fractum.Simulation(SCENE, overrides=["material.poisson=0.7"])
