@@ -232,3 +232,108 @@ fn a_run_that_turns_infinite_stops_at_once_with_a_sentence() {
         "{err}"
     );
 }
+
+/// Runs `scene` with `--set` overrides and returns the refusal line (exit code 2, one line,
+/// no output folder).
+fn refused(scene: &str, sets: &[String]) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let path = common::repo().join(scene);
+    let mut args = vec![
+        "run".to_string(),
+        path.to_str().unwrap().to_string(),
+        "--out".into(),
+        out.to_str().unwrap().to_string(),
+        "--quiet".into(),
+    ];
+    for s in sets {
+        args.extend(["--set".to_string(), s.clone()]);
+    }
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = common::fractum(dir.path(), &args);
+    let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(!out.exists());
+    stderr
+}
+
+/// Issue 16 item 12: dlsm at time.safety 0.5-1.0 ran to the end with exit 0 while its kinetic
+/// energy reached 1e9-2e13 J. The step is now checked at build against the lattice's own
+/// highest frequency (power iteration, Tchamwa-Wielgosz limit ω dt < √(2/φ)): a step
+/// 1.5x its stability limit is refused with a sentence that names the key and the limit,
+/// a step at 0.9x runs and measures the same modulus as the default step.
+#[test]
+fn dlsm_steps_past_the_lattice_limit_are_refused_and_below_it_run_right() {
+    let scene = "scenes/dlsm_tensile.toml";
+    let small = "sample.elements=300".to_string();
+    let line = refused(scene, &[small.clone(), "time.safety=1".into()]);
+    assert!(
+        line.contains("time.safety") && line.contains("stability limit"),
+        "{line}"
+    );
+    let limit: f64 = line
+        .rsplit("set time.safety below ")
+        .next()
+        .unwrap()
+        .trim()
+        .parse()
+        .unwrap_or_else(|e| panic!("{e}: {line}"));
+    assert!(
+        limit > 0.33 && limit < 1.0,
+        "the shipped 0.33 is below it: {line}"
+    );
+    let over = refused(
+        scene,
+        &[small.clone(), format!("time.safety={}", 1.5 * limit)],
+    );
+    assert!(over.contains("stability limit"), "{over}");
+    let (_, reference, _) = common::run_scene(scene, &["--set", &small]);
+    let near = format!("time.safety={}", 0.9 * limit);
+    let (_, s, series) = common::run_scene(scene, &["--set", &small, "--set", &near]);
+    let young = |s: &serde_json::Value| s["apparent_young"].as_f64().unwrap();
+    assert!(
+        (young(&s) / young(&reference) - 1.0).abs() < 0.01,
+        "apparent E at 0.9x the limit {:e}, at the default step {:e}",
+        young(&s),
+        young(&reference)
+    );
+    let ke = common::column(&series, "kinetic_energy");
+    let ke_ref = reference["kinetic_energy_final"].as_f64().unwrap();
+    assert!(
+        ke.iter()
+            .all(|k| k.is_finite() && *k < 10.0 * ke_ref.max(1.0)),
+        "kinetic energy stays bounded: max {:e} J",
+        ke.iter().cloned().fold(0.0, f64::max)
+    );
+    // Table 3's end ν = -0.99 diverged at step 40 at the shipped step: refused now.
+    let line = refused(scene, &[small, "material.poisson=-0.99".into()]);
+    assert!(line.contains("stability limit"), "{line}");
+}
+
+/// Issue 16 item 12: beam2d at 3x its estimated limit ended with exit 0 after its kinetic
+/// energy grew from 500 J to 1.4 MJ. The limit is a bound (Gershgorin), so a step above it is
+/// refused; at 0.9x the explosion's kinetic energy never rises above what it started with.
+#[test]
+fn beam2d_steps_past_the_bound_are_refused_and_below_it_keep_the_energy() {
+    let scene = "scenes/explosion_disc.toml";
+    let (_, s, _) = common::run_scene(
+        scene,
+        &["--set", "time.dt=1e-6", "--set", "loading.end_time=1e-4"],
+    );
+    let limit = s["dt_critical"].as_f64().unwrap();
+    let line = refused(scene, &[format!("time.dt={:e}", 1.5 * limit)]);
+    assert!(
+        line.contains("time.dt") && line.contains("stability limit"),
+        "{line}"
+    );
+    let (_, s, series) =
+        common::run_scene(scene, &["--set", &format!("time.dt={:e}", 0.9 * limit)]);
+    let ke0 = s["kinetic_energy_initial"].as_f64().unwrap();
+    let ke = common::column(&series, "kinetic_energy");
+    assert!(
+        ke.iter().all(|k| *k <= ke0 * (1.0 + 1e-9)),
+        "kinetic energy above its initial {ke0} J: max {:e}",
+        ke.iter().cloned().fold(0.0, f64::max)
+    );
+}

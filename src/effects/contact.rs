@@ -27,6 +27,7 @@ use crate::contact::hertz_mindlin::{
 use crate::contact::neighbor::{PairList, WallLists, transfer_pair_data, transfer_wall_data};
 use crate::error::{Error, Result};
 use crate::parallel::threads_here;
+use crate::probe::modes::{Dof, MassScale, highest_eigenvalue, largest_motion};
 use crate::shape::Shape;
 use crate::state::{Bodies, Body, Forces, Vec3, Walls, plane_distance, shape_placement};
 
@@ -1259,20 +1260,13 @@ pub fn records_highest_frequency(
     if n == 0 || records.is_empty() {
         return (0.0, 0, 0.0);
     }
-    // M^-1/2 per body: 1/sqrt(m) for translation, R diag(1/sqrt(I)) R^T for rotation.
-    let rot_half: Vec<Matrix3<f64>> = (0..n)
-        .map(|i| {
-            let r = bodies.orientation[i].to_rotation_matrix().into_inner();
-            r * Matrix3::from_diagonal(&bodies.inv_inertia[i].map(f64::sqrt)) * r.transpose()
-        })
-        .collect();
-    let lin_half: Vec<f64> = bodies.inv_mass.iter().map(|m| m.sqrt()).collect();
-    let apply = |w: &[[Vec3; 2]], out: &mut [[Vec3; 2]]| {
+    let scale = MassScale::of(bodies);
+    let apply = |w: &[Dof], out: &mut [Dof]| {
         for o in out.iter_mut() {
             *o = [Vec3::zeros(); 2];
         }
         let disp = |i: usize, c: &Vec3| {
-            let (u, th) = (w[i][0] * lin_half[i], rot_half[i] * w[i][1]);
+            let (u, th) = scale.motion(i, &w[i]);
             u + th.cross(&(c - bodies.pos[i]))
         };
         for r in records {
@@ -1285,8 +1279,9 @@ pub fn records_highest_frequency(
             let dn = r.normal * r.normal.dot(&d);
             let f = (dn + (d - dn) * tangential) * r.stiffness;
             let mut push = |b: usize, f: Vec3| {
-                out[b][0] += f * lin_half[b];
-                out[b][1] += rot_half[b] * (r.point - bodies.pos[b]).cross(&f);
+                let l = scale.load(b, &f, &(r.point - bodies.pos[b]).cross(&f));
+                out[b][0] += l[0];
+                out[b][1] += l[1];
             };
             push(i, f);
             if !wall {
@@ -1294,50 +1289,9 @@ pub fn records_highest_frequency(
             }
         }
     };
-    // A deterministic start that touches every body and direction.
-    let mut w: Vec<[Vec3; 2]> = (0..n)
-        .map(|i| {
-            let x = (i as f64 + 1.0) * 0.618_033_988_749_895;
-            let c = |k: f64| (x * k).fract() - 0.5;
-            [
-                Vec3::new(c(1.0), c(3.0), c(7.0)),
-                Vec3::new(c(11.0), c(13.0), c(17.0)),
-            ]
-        })
-        .collect();
-    let mut next = vec![[Vec3::zeros(); 2]; n];
-    let norm = |v: &[[Vec3; 2]]| {
-        v.iter()
-            .map(|b| b[0].norm_squared() + b[1].norm_squared())
-            .sum::<f64>()
-            .sqrt()
-    };
-    let mut lambda = 0.0;
-    for _ in 0..iterations {
-        let s = norm(&w);
-        if s.is_nan() || s <= 0.0 {
-            break;
-        }
-        for b in w.iter_mut() {
-            b[0] /= s;
-            b[1] /= s;
-        }
-        apply(&w, &mut next);
-        lambda = w
-            .iter()
-            .zip(&next)
-            .map(|(a, b)| a[0].dot(&b[0]) + a[1].dot(&b[1]))
-            .sum::<f64>();
-        std::mem::swap(&mut w, &mut next);
-    }
-    let (mut top, mut at, mut lin) = (0.0, 0, 0.0);
-    for (i, b) in w.iter().enumerate() {
-        let e = b[0].norm_squared() + b[1].norm_squared();
-        if e > top {
-            (top, at, lin) = (e, i, b[0].norm_squared() / e);
-        }
-    }
-    (lambda.max(0.0).sqrt(), at, lin)
+    let (lambda, mode) = highest_eigenvalue(n, iterations, apply);
+    let (at, lin) = largest_motion(&mode);
+    (lambda.sqrt(), at, lin)
 }
 
 /// The neighbour-list skin (m) without a scene's `neighbor.skin`: 0.4 of the smallest radius.

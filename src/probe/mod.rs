@@ -3,6 +3,7 @@
 pub mod energy;
 pub mod fit;
 pub mod fragments;
+pub mod modes;
 pub mod size_distribution;
 pub mod spectrum;
 

@@ -173,6 +173,27 @@ impl Dlsm {
             IntegratorKind::TchamwaWielgosz => scene.time.phi.unwrap_or(DEFAULT_PHI),
             _ => 0.5,
         };
+        // The scheme is stable for ω dt < √(2/φ) (φ = ½: velocity Verlet's 2). Eq. 39 bounds
+        // one spring at a time with E; the lattice's own highest frequency (each element held
+        // by all its springs, stiffness from λ + 2μ and μ) lies above 1/dt_limit, by a factor
+        // that grows towards ν = 0.5 and ν = -1: computed here, it refuses a step the run
+        // could not survive instead of letting the run blow up (issue 16).
+        let (omega_max, stiffest) = lattice_highest_frequency(bodies, bonds, &loading, 60);
+        let stable = (2.0 / phi).sqrt() / omega_max;
+        if dt > stable {
+            let (key, value) = match scene.time.dt {
+                DtSpec::Auto => ("time.safety", format!("{}", scene.time.safety)),
+                DtSpec::Seconds(v) => ("time.dt", format!("{v:e} s")),
+            };
+            return Err(scene.key_error(
+                key,
+                format!(
+                    "= {value} gives a step of {dt:.3e} s, above this lattice's stability limit of {stable:.3e} s (its highest vibration frequency, computed at build, is {omega_max:.4e} rad/s, at element {stiffest}; the scheme needs ω dt < √(2/φ) = {:.3} for φ = {phi}): set time.safety below {:.3}",
+                    (2.0 / phi).sqrt(),
+                    stable / dt_limit
+                ),
+            ));
+        }
         let mut warnings = Vec::new();
         if !dt_critical.is_finite() {
             warnings.push("the sample has no cohesive contact".to_string());
@@ -497,6 +518,56 @@ fn rotational_time_step(bodies: &Bodies, bonds: &DlsmBonds) -> f64 {
         dt = dt.min((inertia / k).sqrt());
     }
     dt
+}
+
+/// The lattice's highest vibration frequency (rad/s) at its built configuration, computed by
+/// `iterations` power iterations ([`crate::probe::modes`]) with the stiffness applied as a
+/// forward difference of the springs' forces (no breaking), the loaded elements held as the
+/// loading holds them; and the element that moves most in that mode. Ground contact and
+/// gravity are left out (the ground's own bound is in the step limit).
+pub fn lattice_highest_frequency(
+    bodies: &Bodies,
+    bonds: &DlsmBonds,
+    loading: &DlsmLoading,
+    iterations: usize,
+) -> (f64, usize) {
+    use crate::probe::modes::{
+        MassScale, highest_eigenvalue, largest_motion, stiffness_by_difference,
+    };
+    let n = bodies.len();
+    if n == 0 || bonds.contacts() == 0 {
+        return (0.0, 0);
+    }
+    let length = bonds.length0.iter().copied().fold(f64::INFINITY, f64::min);
+    let mut bonds = bonds.clone();
+    let mut loading = loading.clone();
+    let mut forces = Forces::new(n);
+    let mut evaluate = |b: &Bodies| {
+        bonds.evaluate(b, &mut forces, None);
+        loading.constrain(&mut forces);
+        forces
+            .force
+            .iter()
+            .zip(&forces.torque)
+            .map(|(f, t)| (*f, *t))
+            .collect::<Vec<_>>()
+    };
+    let base = evaluate(bodies);
+    let scale = MassScale::of(bodies);
+    let mut trial = bodies.clone();
+    let (lambda, mode) = highest_eigenvalue(n, iterations, |w, out| {
+        stiffness_by_difference(
+            bodies,
+            &scale,
+            length,
+            &base,
+            &mut trial,
+            w,
+            out,
+            &mut evaluate,
+        )
+    });
+    (lambda.sqrt(), largest_motion(&mode).0)
 }
 
 /// The static field a free vibration starts from, at `x` (Section 8.2.2).
