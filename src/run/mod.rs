@@ -176,6 +176,12 @@ pub trait Model: Send + Sized {
     fn first_non_finite(&self) -> Option<usize>;
     /// What to change when the run turned non-finite (one clause).
     fn instability_hint(&self, scene: &Scene, clock: &Clock) -> String;
+    /// Checked after every step, after the finiteness check: a state the model cannot
+    /// describe any more though still finite (granular: grains packed beyond full density),
+    /// as a clause saying what and what to change. Must be cheap.
+    fn fault(&self, _clock: &Clock) -> Option<String> {
+        None
+    }
     /// Whether a step may be shortened to land on a requested time.
     fn variable_step(&self) -> bool {
         true
@@ -555,6 +561,12 @@ impl<M: Model> Runner<M> {
                 self.clock.time,
                 M::BODY,
                 self.model.instability_hint(&self.scene, &self.clock)
+            )));
+        }
+        if let Some(why) = self.model.fault(&self.clock) {
+            return Err(Error::run(format!(
+                "the run stopped at step {} (t = {:e} s): {why}",
+                self.clock.step, self.clock.time
             )));
         }
         let c = &self.clock;

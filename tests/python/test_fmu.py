@@ -143,6 +143,16 @@ def test_damaged_serialized_states_are_refused(unzipped):
     fmu.freeInstance()
 
 
+def test_faces_far_too_fast_end_the_step_with_an_error(unzipped):
+    # Issue 16 item 5: at v_incident = 1e4 m/s fmi2DoStep never returned. Now the grains
+    # packed beyond full density stop the run: fmi2Error, with the sentence logged.
+    fmu = slave(unzipped, "too_fast", v_incident=1e4)
+    with pytest.raises(Exception) as e:
+        run(fmu, 0.0, 1e-6, 1)
+    assert "error" in str(e.value).lower()
+    fmu.freeInstance()
+
+
 def test_reset_then_initialisation_starts_over(unzipped):
     fmu = slave(unzipped, "reset")
     run(fmu, 0.0, 1e-5, 3)
