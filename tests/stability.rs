@@ -371,8 +371,9 @@ fn faces_driven_beyond_full_density_stop_the_run() {
         stderr.contains("the grains fill") && stderr.contains("of the box"),
         "{stderr}"
     );
-    // Not before the grains' volume can exceed the box's (0.45 / (1 - 0.55) = 1, the packing reaching 0.454; splits
-    // only lower that volume, the halves being denser), and before the asked 0.9.
+    // Not before the grains' volume can exceed the box's (the packing reaches 0.454, and
+    // 0.454 / (1 - 0.546) = 1; splits only lower that volume, the halves being denser), and
+    // before the asked 0.9.
     let strain: f64 = stderr
         .split("axial strain ")
         .nth(1)
