@@ -244,10 +244,20 @@ impl DlsmLoading {
                 "broken_contacts",
             ],
             DlsmLoading::FreeVibration(v) => match v.mode {
-                VibrationMode::Tension => {
-                    vec!["time", "free_face_displacement", "kinetic_energy"]
-                }
-                VibrationMode::Torsion => vec!["time", "free_face_rotation", "kinetic_energy"],
+                VibrationMode::Tension => vec![
+                    "time",
+                    "free_face_displacement",
+                    "kinetic_energy",
+                    "strain_energy",
+                    "total_energy",
+                ],
+                VibrationMode::Torsion => vec![
+                    "time",
+                    "free_face_rotation",
+                    "kinetic_energy",
+                    "strain_energy",
+                    "total_energy",
+                ],
             },
             DlsmLoading::Brazilian(_) => vec![
                 "time",
@@ -320,7 +330,7 @@ impl DlsmLoading {
                         (q.y * p.z - q.z * p.y).atan2(q.y * p.y + q.z * p.z)
                     }),
                 };
-                vec![r.time, signal, ke]
+                vec![r.time, signal, ke, r.strain_energy, ke + r.strain_energy]
             }
             DlsmLoading::Brazilian(l) => {
                 let gap = mean_of(&l.top, |i| b.pos[i].y) - mean_of(&l.bottom, |i| b.pos[i].y);

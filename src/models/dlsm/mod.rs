@@ -46,6 +46,10 @@ pub type DlsmRun = Runner<Dlsm>;
 /// 1 ≤ φ ≤ 1.3; the lattice's flutter modes need about 2 at a third of the critical step
 /// (docs/validation.md).
 pub const DEFAULT_PHI: f64 = 2.0;
+
+/// How far the total energy of a run without work input may rise above its start before the
+/// run stops (the strain energy being an estimate).
+pub const ENERGY_GROWTH_LIMIT: f64 = 1.1;
 /// Default ramp of prescribed speeds, as a fraction of the loading time.
 const DEFAULT_RAMP: f64 = 0.1;
 /// Default `stop_fraction` with fracture.
@@ -79,6 +83,9 @@ pub struct Dlsm {
     /// Eq. 39 without its factor (s), and the rotational counterpart.
     pub dt_critical: f64,
     pub dt_rotational: f64,
+    /// Set by a series row whose energy grew without work put in (see `after_row`); the run
+    /// stops with it at the next step. Not state: a restored run finds it again.
+    energy_fault: Option<String>,
     pub state: DlsmState,
 }
 
@@ -225,6 +232,7 @@ impl Dlsm {
             gravity,
             dt_critical,
             dt_rotational,
+            energy_fault: None,
             cfg,
             state: DlsmState {
                 forces: Forces::new(bodies.len()),
@@ -452,7 +460,10 @@ impl Model for Dlsm {
 
     fn row(&mut self, clock: &Clock) -> Vec<f64> {
         let st = &mut self.state;
-        let drop = matches!(st.loading, DlsmLoading::Drop(_));
+        let drop = matches!(
+            st.loading,
+            DlsmLoading::Drop(_) | DlsmLoading::FreeVibration(_)
+        );
         let inputs = RowInputs {
             time: clock.time,
             bodies: &st.bodies,
@@ -473,6 +484,29 @@ impl Model for Dlsm {
         if self.state.loading.failed(series) {
             self.state.stopped = true;
         }
+        // Free vibration and the drop put no work in after the start: their total energy can
+        // only fall (the scheme and the ground dissipate). The strain energy is an estimate
+        // (exact for uniform strain), hence the 10% margin; growth past it is a growing mode,
+        // which ran to 1e13 J before the run noticed anything (issue 16).
+        if let Some(e) = series.column("total_energy")
+            && let (Some(&first), Some(&now)) = (e.first(), e.last())
+            && now > ENERGY_GROWTH_LIMIT * first
+        {
+            self.energy_fault = Some(format!(
+                "the lattice's total energy (kinetic + strain{}) grew to {now:.4e} J, {:.3} times its initial {first:.4e} J, with no work put in: a growing mode, from a step too long or, at φ = {} below 1.5, the flutter of the springs (which do not derive from a potential); raise time.phi to 2 or lower time.safety",
+                if matches!(self.state.loading, DlsmLoading::Drop(_)) {
+                    " + potential + ground contact"
+                } else {
+                    ""
+                },
+                now / first,
+                self.integrator.phi
+            ));
+        }
+    }
+
+    fn fault(&self, _clock: &Clock) -> Option<String> {
+        self.energy_fault.clone()
     }
 
     fn first_non_finite(&self) -> Option<usize> {
