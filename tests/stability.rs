@@ -236,25 +236,11 @@ fn a_run_that_turns_infinite_stops_at_once_with_a_sentence() {
 /// Runs `scene` with `--set` overrides and returns the refusal line (exit code 2, one line,
 /// no output folder).
 fn refused(scene: &str, sets: &[String]) -> String {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let path = common::repo().join(scene);
-    let mut args = vec![
-        "run".to_string(),
-        path.to_str().unwrap().to_string(),
-        "--out".into(),
-        out.to_str().unwrap().to_string(),
-        "--quiet".into(),
-    ];
-    for s in sets {
-        args.extend(["--set".to_string(), s.clone()]);
-    }
-    let args: Vec<&str> = args.iter().map(String::as_str).collect();
-    let o = common::fractum(dir.path(), &args);
-    let stderr = String::from_utf8_lossy(&o.stderr).to_string();
-    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    let args: Vec<&str> = sets.iter().flat_map(|s| ["--set", s.as_str()]).collect();
+    let (code, stderr, out) = common::run_scene_failing(scene, &args);
+    assert_eq!(code, Some(2), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
-    assert!(!out.exists());
+    assert!(!out);
     stderr
 }
 
@@ -344,17 +330,9 @@ fn beam2d_steps_past_the_bound_are_refused_and_below_it_keep_the_energy() {
 /// more than the box, with a sentence, exit code 1.
 #[test]
 fn faces_driven_beyond_full_density_stop_the_run() {
-    let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("out");
-    let scene = common::repo().join("scenes/shpb_sand.toml");
-    let o = common::fractum(
-        dir.path(),
+    let (code, stderr, _) = common::run_scene_failing(
+        "scenes/shpb_sand.toml",
         &[
-            "run",
-            scene.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--quiet",
             "--set",
             "sample.box=[3e-3,3e-3,3e-3]",
             "--set",
@@ -365,8 +343,7 @@ fn faces_driven_beyond_full_density_stop_the_run() {
             "loading.end_strain=0.9",
         ],
     );
-    let stderr = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(o.status.code(), Some(1), "{stderr}");
+    assert_eq!(code, Some(1), "{stderr}");
     assert!(
         stderr.contains("the grains fill") && stderr.contains("of the box"),
         "{stderr}"
@@ -424,17 +401,9 @@ mod suite {
     /// 3600 steps and the run ended in NaN with a hint at the step. Now the energy watchdog stops it, naming φ.
     #[test]
     fn dlsm_flutter_without_damping_stops_with_the_energy_sentence() {
-        let dir = tempfile::tempdir().unwrap();
-        let out = dir.path().join("out");
-        let scene = common::repo().join("scenes/dlsm_wave_tension.toml");
-        let o = common::fractum(
-            dir.path(),
+        let (code, stderr, _) = common::run_scene_failing(
+            "scenes/dlsm_wave_tension.toml",
             &[
-                "run",
-                scene.to_str().unwrap(),
-                "--out",
-                out.to_str().unwrap(),
-                "--quiet",
                 "--set",
                 "sample.elements=300",
                 "--set",
@@ -443,8 +412,7 @@ mod suite {
                 "time.phi=0.5",
             ],
         );
-        let stderr = String::from_utf8_lossy(&o.stderr);
-        assert_eq!(o.status.code(), Some(1), "{stderr}");
+        assert_eq!(code, Some(1), "{stderr}");
         assert!(
             stderr.contains("total energy")
                 && stderr.contains("no work put in")

@@ -137,8 +137,8 @@ pub fn stiffness_by_difference(
         return;
     }
     let eps = 1e-7 * length / reach;
-    for i in 0..bodies.len() {
-        let (u, th) = scale.motion(i, &w[i]);
+    for (i, wi) in w.iter().enumerate() {
+        let (u, th) = scale.motion(i, wi);
         trial.pos[i] = bodies.pos[i] + u * eps;
         trial.orientation[i] = UnitQuaternion::from_scaled_axis(th * eps) * bodies.orientation[i];
     }

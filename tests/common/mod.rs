@@ -138,9 +138,9 @@ vtk = 500
     )
 }
 
-/// Runs a shipped scene (path relative to the repository) with extra CLI arguments; returns
-/// the output folder's owner, summary.json and series.csv.
-pub fn run_scene(scene: &str, extra: &[&str]) -> (tempfile::TempDir, serde_json::Value, String) {
+/// `fractum run` of a shipped scene (path relative to the repository) with extra CLI
+/// arguments, into `out` under a fresh folder: the folder's owner and the process output.
+fn run_shipped(scene: &str, extra: &[&str]) -> (tempfile::TempDir, Output) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let path = repo().join(scene);
@@ -153,6 +153,23 @@ pub fn run_scene(scene: &str, extra: &[&str]) -> (tempfile::TempDir, serde_json:
     ];
     args.extend_from_slice(extra);
     let o = fractum(dir.path(), &args);
+    (dir, o)
+}
+
+/// Runs a shipped scene that must fail: its exit code, its stderr, and whether the output
+/// folder exists.
+pub fn run_scene_failing(scene: &str, extra: &[&str]) -> (Option<i32>, String, bool) {
+    let (dir, o) = run_shipped(scene, extra);
+    let stderr = String::from_utf8_lossy(&o.stderr).to_string();
+    assert!(!o.status.success(), "{scene} {extra:?} succeeded");
+    (o.status.code(), stderr, dir.path().join("out").exists())
+}
+
+/// Runs a shipped scene (path relative to the repository) with extra CLI arguments; returns
+/// the output folder's owner, summary.json and series.csv.
+pub fn run_scene(scene: &str, extra: &[&str]) -> (tempfile::TempDir, serde_json::Value, String) {
+    let (dir, o) = run_shipped(scene, extra);
+    let out = dir.path().join("out");
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let summary =
         serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
