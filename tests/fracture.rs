@@ -324,7 +324,7 @@ fn explain_names_fracture_weibull_cohesion_and_the_step_rule() {
         "sigma_fM = 3e9 Pa",
         "+ weibull:",
         "+ cohesion: the halves held by 4 springs",
-        "omega dt <= 0.600 (3 x 0.2)",
+        "omega dt <= 1.200 (3 x 0.4)",
     ] {
         assert!(s.contains(want), "missing `{want}`: {s}");
     }

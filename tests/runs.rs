@@ -276,7 +276,7 @@ fn resumed_fracture_run_continues_bit_for_bit() {
         "--set",
         "loading.end_strain=0.05",
         "--checkpoint-every",
-        "3000",
+        "1500",
     ];
     let o = common::fractum(dir.path(), &args);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

@@ -200,11 +200,11 @@ int main(int argc, char **argv) {
 
     /* The incident bar pushes the top face in at 3 m/s; the transmitted face stays. */
     must(fractum_set_face_speeds(sim, 3.0, 0.0), "set_face_speeds");
-    double previous = -1.0, t = 0.0, strain = 0.0;
+    double t = 0.0, strain = 0.0;
     uint64_t steps = 0;
     size_t state_len = 0;
     unsigned char *state = NULL;
-    double top_at_10 = 0.0;
+    double top_at_5 = 0.0, top_at_10 = 0.0;
     for (int k = 1; k <= 20; k++) {
         if (k == 10) {
             must(fractum_state_size(sim, &state_len), "state_size");
@@ -219,14 +219,20 @@ int main(int argc, char **argv) {
         must(fractum_progress(sim, &t, &strain, &steps), "progress");
         printf("t = %.3e s  strain = %.5f  stress top = %.4e Pa  bottom = %.4e Pa\n", t, strain, top, bottom);
         CHECK(t == 5e-6 * k, "lands exactly on the requested time (%.17g)", t);
-        if (k > 4) {
-            CHECK(top > previous, "the stress rises with strain (%g after %g)", top, previous);
+        if (k == 5) {
+            top_at_5 = top;
         }
         if (k == 10) {
             top_at_10 = top;
         }
-        previous = top;
     }
+    /* The stress rises with strain: from 1.25% to 5% a Hertz packing with a fixed contact
+     * network stiffens by (5/1.25)^1.5 = 8; grains that break soften it, and a breaking grain
+     * can dip the stress between two samples, so ask for half that over the whole range. */
+    double top_end, bottom_end, area_end;
+    must(fractum_face_stresses(sim, &top_end, &bottom_end, &area_end), "face_stresses");
+    CHECK(top_end > 4.0 * top_at_5, "the stress rises with strain (%g at 5%%, %g at 1.25%%)",
+          top_end, top_at_5);
     CHECK(strain > 0.0499 && strain < 0.0501, "strain %g after 100 us at 3 m/s over 6 mm", strain);
 
     /* Replay from the saved state: the same stresses, bit for bit. */
