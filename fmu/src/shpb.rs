@@ -127,7 +127,7 @@ impl Sample {
 /// runs' spread, up to 0.7% of the stress after 10 µs). `sim` goes to the first whole step at
 /// or after the communication point; the outputs there are interpolated in time between that
 /// step (`sim`) and the one before it (`lo`). An input set at a communication point therefore
-/// acts from the step after `sim`'s time: at most one internal step (about 13 ns for the
+/// acts from the step after `sim`'s time: at most one internal step (about 26 ns for the
 /// shipped scene) late.
 #[derive(Default)]
 pub struct Shpb {

@@ -113,7 +113,7 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
 const OMEGA_DT_LIMIT: f64 = 2.0;
 const OMEGA_DT_WARN: f64 = 1.6;
 /// A fracture run with `time.dt = "auto"` keeps the estimated `ω dt` of its stiffest body at
-/// most this times `time.safety` (0.6 at the default 0.2): the safety that sets the first step
+/// most this times `time.safety` (1.2 at the main job's 0.4): the safety that sets the first step
 /// from the Rayleigh step also sets how close to the stiffest contact the step stays as pieces
 /// appear (docs/performance.md: the main job's ensembles at each safety).
 pub const ADAPT_PER_SAFETY: f64 = 3.0;
