@@ -104,15 +104,17 @@ fn relax_sweep(pos: &mut [Vec3], radii: &[f64], scale: f64, lo: Vec3, hi: Vec3) 
     let rmax = radii.iter().copied().fold(0.0, f64::max) * scale;
     let grid = CellGrid::new(pos, 2.0 * rmax);
     let mut worst = 0.0_f64;
+    // One neighbour buffer for the whole sweep (it was allocated, and often regrown, per body).
+    let mut near = Vec::with_capacity(64);
     for i in 0..pos.len() {
         let ri = radii[i] * scale;
-        let mut near = Vec::with_capacity(32);
+        near.clear();
         grid.for_each_near(&pos[i], |j| {
             if j != i {
                 near.push(j)
             }
         });
-        for j in near {
+        for &j in &near {
             let rj = radii[j] * scale;
             let d = pos[i] - pos[j];
             let reach = ri + rj;
