@@ -653,7 +653,7 @@ pub extern "C" fn fractum_scalar(
         let name = string_arg(name, "name")?;
         let v = with_run(handle, |run| {
             let series = run.series();
-            let k = series.columns.iter().position(|c| *c == name).ok_or_else(|| {
+            let k = series.index(&name).ok_or_else(|| {
                 (
                     FRACTUM_ERR_INPUT,
                     format!(

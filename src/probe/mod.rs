@@ -26,9 +26,14 @@ impl Series {
         }
     }
 
+    /// The position of a column, if it exists.
+    pub fn index(&self, name: &str) -> Option<usize> {
+        self.columns.iter().position(|c| c == name)
+    }
+
     /// The values of one column, if it exists.
     pub fn column(&self, name: &str) -> Option<Vec<f64>> {
-        let k = self.columns.iter().position(|c| c == name)?;
+        let k = self.index(name)?;
         Some(self.rows.iter().map(|r| r[k]).collect())
     }
 

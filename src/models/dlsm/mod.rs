@@ -184,27 +184,6 @@ impl Dlsm {
             IntegratorKind::TchamwaWielgosz => scene.time.phi.unwrap_or(DEFAULT_PHI),
             _ => 0.5,
         };
-        // The scheme is stable for ω dt < √(2/φ) (φ = ½: velocity Verlet's 2). Eq. 39 bounds
-        // one spring at a time with E; the lattice's own highest frequency (each element held
-        // by all its springs, stiffness from λ + 2μ and μ) lies above 1/dt_limit, by a factor
-        // that grows towards ν = 0.5 and ν = -1: computed here, it refuses a step the run
-        // could not survive instead of letting the run blow up (issue 16).
-        let (omega_max, stiffest) = lattice_highest_frequency(bodies, bonds, &loading, 60);
-        let stable = (2.0 / phi).sqrt() / omega_max;
-        if dt > stable {
-            let (key, value) = match scene.time.dt {
-                DtSpec::Auto => ("time.safety", format!("{}", scene.time.safety)),
-                DtSpec::Seconds(v) => ("time.dt", format!("{v:e} s")),
-            };
-            return Err(scene.key_error(
-                key,
-                format!(
-                    "= {value} gives a step of {dt:.3e} s, above this lattice's stability limit of {stable:.3e} s (its highest vibration frequency, computed at build, is {omega_max:.4e} rad/s, at element {stiffest}; the scheme needs ω dt < √(2/φ) = {:.3} for φ = {phi}): set time.safety below {:.3}",
-                    (2.0 / phi).sqrt(),
-                    stable / dt_limit
-                ),
-            ));
-        }
         let mut warnings = Vec::new();
         if !dt_critical.is_finite() {
             warnings.push("the sample has no cohesive contact".to_string());
@@ -251,6 +230,46 @@ impl Dlsm {
             },
         };
         Ok((model, dt, warnings))
+    }
+
+    /// Refuses a step the lattice cannot survive, at build (a restored run was checked when
+    /// it was built). The scheme is stable for ω dt < √(2/φ) (φ = ½: velocity Verlet's 2).
+    /// Eq. 39 bounds one spring at a time with E; the lattice's own highest frequency (each
+    /// element held by all its springs, stiffness from λ + 2μ and μ) lies above 1/dt_limit, by
+    /// a factor that grows towards ν = 0.5 and ν = -1: computed here on the undeformed
+    /// lattice, it refuses the step instead of letting the run blow up (issue 16).
+    fn check_step(&self, scene: &Scene, dt: f64) -> Result<()> {
+        let mut undeformed = self.state.bodies.clone();
+        undeformed.pos.clone_from(&self.reference);
+        let (omega_max, stiffest) =
+            lattice_highest_frequency(&undeformed, &self.bonds, &self.state.loading, 60);
+        let phi = self.integrator.phi;
+        let stable = (2.0 / phi).sqrt() / omega_max;
+        if dt <= stable {
+            return Ok(());
+        }
+        let (key, value, fix) = match scene.time.dt {
+            DtSpec::Auto => (
+                "time.safety",
+                format!("{}", scene.time.safety),
+                format!(
+                    "set time.safety below {:.3}",
+                    stable / dt * scene.time.safety
+                ),
+            ),
+            DtSpec::Seconds(v) => (
+                "time.dt",
+                format!("{v:e} s"),
+                format!("set time.dt below {stable:.3e} s"),
+            ),
+        };
+        Err(scene.key_error(
+            key,
+            format!(
+                "= {value} gives a step of {dt:.3e} s, above this lattice's stability limit of {stable:.3e} s (its highest vibration frequency, computed at build, is {omega_max:.4e} rad/s, at element {stiffest}; the scheme needs ω dt < √(2/φ) = {:.3} for φ = {phi}): {fix}",
+                (2.0 / phi).sqrt()
+            ),
+        ))
     }
 
     /// Forces and torques at the current positions: bonds, effects, reactions. `clock` is
@@ -392,6 +411,7 @@ impl Model for Dlsm {
         let cfg: DlsmScene = scene.section()?;
         let s = sample::build(scene, &cfg, progress)?;
         let (mut model, dt, warnings) = Dlsm::assemble(scene, cfg, s)?;
+        model.check_step(scene, dt)?;
         let columns = model.state.loading.columns();
         crate::run::check_planned_steps(scene, model.state.loading.end_time(), dt)?;
         let end = end_step(model.state.loading.end_time(), dt);
@@ -492,10 +512,11 @@ impl Model for Dlsm {
         // only fall (the scheme and the ground dissipate). The strain energy is an estimate
         // (exact for uniform strain), hence the margin; growth past it is a growing mode,
         // which ran to 1e13 J before the run noticed anything (issue 16).
-        if let Some(e) = series.column("total_energy")
-            && let (Some(&first), Some(&now)) = (e.first(), e.last())
-            && now > ENERGY_GROWTH_LIMIT * first
+        if let Some(k) = series.index("total_energy")
+            && let (Some(first), Some(last)) = (series.rows.first(), series.rows.last())
+            && last[k] > ENERGY_GROWTH_LIMIT * first[k]
         {
+            let (first, now) = (first[k], last[k]);
             let phi = self.integrator.phi;
             let cause = if phi < 1.5 {
                 format!(

@@ -86,6 +86,26 @@ pub struct GranularState {
     pub psd: Vec<(f64, Vec<f64>)>,
 }
 
+impl GranularState {
+    /// Whether every per-body array (bodies, forces, fracture) has one entry per body and the
+    /// springs and pieces point at bodies and grains that exist; checked on a restored state
+    /// before it is stepped.
+    fn check_lengths(&self) -> std::result::Result<(), String> {
+        let n = self.bodies.len();
+        self.bodies.check_lengths()?;
+        crate::state::check_lengths(
+            n,
+            &[
+                ("force", self.forces.force.len()),
+                ("torque", self.forces.torque.len()),
+            ],
+        )?;
+        self.fracture
+            .as_ref()
+            .map_or(Ok(()), |f| f.check_lengths(n))
+    }
+}
+
 impl std::ops::Deref for Granular {
     type Target = GranularState;
     fn deref(&self) -> &GranularState {
@@ -620,28 +640,9 @@ impl Model for Granular {
         type Saved = (GranularState, Vec<(String, Vec<u8>)>);
         let (state, effects): Saved = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's granular state is damaged ({e})")))?;
-        let n = state.bodies.len();
-        state
-            .bodies
-            .check_lengths()
-            .and_then(|()| {
-                crate::state::check_lengths(
-                    n,
-                    &[
-                        ("force", state.forces.force.len()),
-                        ("torque", state.forces.torque.len()),
-                    ],
-                )
-            })
-            .and_then(|()| {
-                state
-                    .fracture
-                    .as_ref()
-                    .map_or(Ok(()), |f| f.check_lengths(n))
-            })
-            .map_err(|why| {
-                Error::run(format!("the saved granular state is inconsistent: {why}"))
-            })?;
+        state.check_lengths().map_err(|why| {
+            Error::run(format!("the saved granular state is inconsistent: {why}"))
+        })?;
         let mut model = Granular::with_state(scene, scene.section()?, state);
         model.pipeline.restore(&effects)?;
         Ok(model)
