@@ -8,7 +8,7 @@
 
 use rayon::prelude::*;
 
-use crate::parallel::threads_here;
+use crate::parallel::{blocks, on_team, threads_here};
 use crate::state::{Vec3, Walls};
 
 /// Verlet half list of body pairs.
@@ -50,7 +50,18 @@ impl PairList {
         if self.ref_pos.len() != pos.len() {
             return f64::INFINITY;
         }
-        let max2 = if pos.len() >= 8192 && threads_here() > 1 {
+        let parts = blocks(pos.len());
+        let max2 = if parts.len() > 1 {
+            on_team(parts, |_, r| {
+                pos[r.clone()]
+                    .iter()
+                    .zip(&self.ref_pos[r])
+                    .map(|(p, r)| (p - r).norm_squared())
+                    .fold(0.0, f64::max)
+            })
+            .into_iter()
+            .fold(0.0, f64::max)
+        } else if pos.len() >= 8192 && threads_here() > 1 {
             pos.par_iter()
                 .zip(self.ref_pos.par_iter())
                 .with_min_len(4096)
@@ -91,7 +102,13 @@ impl PairList {
             row.sort_unstable();
             row
         };
-        let rows: Vec<Vec<u32>> = if threads_here() > 1 {
+        let parts = blocks(n);
+        let rows: Vec<Vec<u32>> = if parts.len() > 1 {
+            on_team(parts, |_, r| r.map(row).collect::<Vec<_>>())
+                .into_iter()
+                .flatten()
+                .collect()
+        } else if threads_here() > 1 {
             (0..n).into_par_iter().with_min_len(256).map(row).collect()
         } else {
             (0..n).map(row).collect()

@@ -16,7 +16,6 @@
 use std::ops::Range;
 
 use nalgebra::{Matrix3, UnitQuaternion};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use super::{Effect, StepContext};
@@ -26,7 +25,7 @@ use crate::contact::hertz_mindlin::{
 };
 use crate::contact::neighbor::{PairList, WallLists, transfer_pair_data, transfer_wall_data};
 use crate::error::{Error, Result};
-use crate::parallel::threads_here;
+use crate::parallel::{blocks, on_team, split_ranges, team_size};
 use crate::probe::modes::{Dof, MassScale, highest_eigenvalue, largest_motion};
 use crate::shape::Shape;
 use crate::state::{Bodies, Body, Forces, Vec3, Walls, plane_distance, shape_placement};
@@ -104,10 +103,14 @@ pub struct ContactRecords {
     pub dissipated: f64,
 }
 
-/// Below this many bodies per thread the pair loop runs on one thread: waking a second
-/// worker twice per step costs more than it saves (measured on the 2-core CI machine: with
-/// 2 threads, 2000 bodies ran at 0.86x and 4000 at 1.16x of one thread).
-const PARALLEL_MIN_BODIES_PER_THREAD: usize = 1500;
+/// Below this many bodies per thread the pair loop runs on one thread. Spheres: a pair costs
+/// tens of nanoseconds, and handing half the rows to another core (its cache then fetches
+/// the bodies the caller just moved) cost more than it saved (2-core CI machine, 1000 dense
+/// spheres: 0.92x of one thread with the worker team, 0.86x at 2000 with rayon).
+pub const PARALLEL_MIN_BODIES_PER_THREAD: usize = 1500;
+
+/// The same for poly-ellipsoids, whose pairs each solve a Newton problem (microseconds).
+const PARALLEL_MIN_POLY_BODIES_PER_THREAD: usize = 100;
 
 /// One contact's force on body i (the first body of a pair; the body against a wall) and the
 /// torques on i and j, and what a record keeps of it. j receives the opposite force.
@@ -775,7 +778,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
     /// then added per body in range order. For a given thread count the order of every sum is
     /// fixed, so runs repeat bit for bit.
     fn pairs_parallel(&mut self, bodies: &Bodies, forces: &mut Forces, ctx: &StepContext) {
-        let threads = threads_here();
+        let threads = team_size();
         if self.chunk_threads != threads || self.chunks.len() != self.accumulators.len() {
             self.chunks = self.pairs.row_chunks(threads);
             self.accumulators = self
@@ -815,53 +818,52 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                     ranges.iter().map(|_| &mut [][..]).collect()
                 }
             }
-            let hist_parts = parts(&mut hist, FRIC, &slot_ranges);
-            let normal_parts = parts(&mut normals, POLY, &slot_ranges);
-            let this = &*self;
-            let count: usize = this
+            let work: Vec<_> = self
                 .chunks
-                .par_iter()
-                .zip(accs.par_iter_mut())
-                .zip(hist_parts.into_par_iter().zip(normal_parts))
-                .map(|((rows, acc), (hist, normals))| {
-                    acc.clear();
-                    let base = this.pairs.offsets[rows.start] as usize;
-                    let lo = acc.range.start;
-                    let mut dummy = Vec3::zeros();
-                    let mut dummy_n = PairMemory::default();
-                    let mut count = 0;
-                    for i in rows.clone() {
-                        for s in this.pairs.row(i) {
-                            let j = this.pairs.partners[s] as usize;
-                            let h = if FRIC {
-                                &mut hist[s - base]
-                            } else {
-                                &mut dummy
-                            };
-                            let nrm = if POLY {
-                                &mut normals[s - base]
-                            } else {
-                                &mut dummy_n
-                            };
-                            if let Some(p) = this.pair_force(bodies, i, j, h, nrm, ctx) {
-                                acc.force[i - lo] += p.force;
-                                acc.force[j - lo] -= p.force;
-                                if FRIC || POLY {
-                                    acc.torque[i - lo] += p.torque_i;
-                                    acc.torque[j - lo] += p.torque_j;
-                                }
-                                if POLY {
-                                    acc.records.push(p.record(i, j as u32));
-                                    acc.dissipated += p.c.dissipated;
-                                }
-                                count += 1;
+                .iter()
+                .zip(accs.iter_mut())
+                .zip(parts(&mut hist, FRIC, &slot_ranges))
+                .zip(parts(&mut normals, POLY, &slot_ranges))
+                .collect();
+            let this = &*self;
+            let counts = on_team(work, |_, (((rows, acc), hist), normals)| {
+                acc.clear();
+                let base = this.pairs.offsets[rows.start] as usize;
+                let lo = acc.range.start;
+                let mut dummy = Vec3::zeros();
+                let mut dummy_n = PairMemory::default();
+                let mut count = 0;
+                for i in rows.clone() {
+                    for s in this.pairs.row(i) {
+                        let j = this.pairs.partners[s] as usize;
+                        let h = if FRIC {
+                            &mut hist[s - base]
+                        } else {
+                            &mut dummy
+                        };
+                        let nrm = if POLY {
+                            &mut normals[s - base]
+                        } else {
+                            &mut dummy_n
+                        };
+                        if let Some(p) = this.pair_force(bodies, i, j, h, nrm, ctx) {
+                            acc.force[i - lo] += p.force;
+                            acc.force[j - lo] -= p.force;
+                            if FRIC || POLY {
+                                acc.torque[i - lo] += p.torque_i;
+                                acc.torque[j - lo] += p.torque_j;
                             }
+                            if POLY {
+                                acc.records.push(p.record(i, j as u32));
+                                acc.dissipated += p.c.dissipated;
+                            }
+                            count += 1;
                         }
                     }
-                    count
-                })
-                .sum();
-            self.contacts = count;
+                }
+                count
+            });
+            self.contacts = counts.iter().sum();
         }
         if POLY {
             // Chunk order is row order: the same records as one thread, in the same order.
@@ -870,23 +872,26 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                 self.records.dissipated += acc.dissipated;
             }
         }
+        // Each body adds the accumulators that hold it, in chunk order.
+        let ranges = blocks(forces.force.len());
+        let merge: Vec<_> = ranges
+            .iter()
+            .zip(split_ranges(&mut forces.force, &ranges))
+            .zip(split_ranges(&mut forces.torque, &ranges))
+            .collect();
         let accs_ref = &accs;
-        forces
-            .force
-            .par_iter_mut()
-            .zip(forces.torque.par_iter_mut())
-            .enumerate()
-            .with_min_len(1024)
-            .for_each(|(i, (f, t))| {
+        on_team(merge, |_, ((range, f), t)| {
+            for (k, i) in range.clone().enumerate() {
                 for acc in accs_ref {
                     if acc.range.contains(&i) {
-                        *f += acc.force[i - acc.range.start];
+                        f[k] += acc.force[i - acc.range.start];
                         if FRIC || POLY {
-                            *t += acc.torque[i - acc.range.start];
+                            t[k] += acc.torque[i - acc.range.start];
                         }
                     }
                 }
-            });
+            }
+        });
         self.pair_hist = hist;
         self.pair_memory = normals;
         self.accumulators = accs;
@@ -954,20 +959,6 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         self.wall_radius = wall_radius;
         self.records = records;
     }
-}
-
-/// Splits `data` into the consecutive sub-slices `ranges` (which start at 0 and touch).
-fn split_ranges<'a, T>(mut data: &'a mut [T], ranges: &[Range<usize>]) -> Vec<&'a mut [T]> {
-    let mut parts = Vec::with_capacity(ranges.len());
-    let mut at = 0;
-    for r in ranges {
-        debug_assert_eq!(r.start, at);
-        let (head, tail) = data.split_at_mut(r.end - r.start);
-        parts.push(head);
-        data = tail;
-        at = r.end;
-    }
-    parts
 }
 
 impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
@@ -1040,8 +1031,13 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             self.records.list.clear();
             self.records.dissipated = 0.0;
         }
-        let threads = threads_here();
-        if threads > 1 && bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
+        let threads = team_size();
+        let min = if POLY {
+            PARALLEL_MIN_POLY_BODIES_PER_THREAD
+        } else {
+            PARALLEL_MIN_BODIES_PER_THREAD
+        };
+        if threads > 1 && bodies.len() >= min * threads {
             self.pairs_parallel(bodies, forces, ctx);
         } else {
             self.pairs_serial(bodies, forces, ctx);

@@ -34,6 +34,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::effects::ContactRecords;
+use crate::parallel::{blocks, on_team};
 use crate::probe::fragments;
 use crate::state::{Bodies, Body, Forces, Vec3};
 use break_plane::Trigger;
@@ -328,36 +329,44 @@ impl GrainFracture {
             }
         }
         critical.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
-        let mut out = Vec::new();
-        let mut c = 0;
-        for (i, m) in moment.iter().enumerate() {
-            let start = c;
-            while c < critical.len() && critical[c].0 as usize == i {
-                c += 1;
+        // Each grain's criteria read only its own sums: grains are checked in contiguous
+        // ranges across the run's team, and the ranges' verdicts joined in grain order.
+        let moment = &*moment;
+        let critical = &*critical;
+        let verdicts = on_team(blocks(n), |_, grains| {
+            let mut out = Vec::new();
+            let mut c = critical.partition_point(|x| (x.0 as usize) < grains.start);
+            for i in grains {
+                let start = c;
+                while c < critical.len() && critical[c].0 as usize == i {
+                    c += 1;
+                }
+                let m = &moment[i];
+                if bonds[i] != 0 || *m == Matrix3::zeros() {
+                    continue;
+                }
+                let crit = &critical[start..c];
+                let mut points = [Vec3::zeros(); 3];
+                for (q, x) in points.iter_mut().zip(crit) {
+                    *q = x.2;
+                }
+                let top = crit.first().map_or(0.0, |x| x.1);
+                if let Some((trigger, criterion, stress)) = grain_fails(
+                    p,
+                    &bodies.body(i),
+                    strength[i],
+                    m,
+                    &forces.torque[i],
+                    crit.len(),
+                    &points[..crit.len().min(3)],
+                    top,
+                ) {
+                    out.push((i, trigger, criterion, stress));
+                }
             }
-            if bonds[i] != 0 || *m == Matrix3::zeros() {
-                continue;
-            }
-            let crit = &critical[start..c];
-            let mut points = [Vec3::zeros(); 3];
-            for (q, x) in points.iter_mut().zip(crit) {
-                *q = x.2;
-            }
-            let top = crit.first().map_or(0.0, |x| x.1);
-            if let Some((trigger, criterion, stress)) = grain_fails(
-                p,
-                &bodies.body(i),
-                strength[i],
-                m,
-                &forces.torque[i],
-                crit.len(),
-                &points[..crit.len().min(3)],
-                top,
-            ) {
-                out.push((i, trigger, criterion, stress));
-            }
-        }
-        out
+            out
+        });
+        verdicts.into_iter().flatten().collect()
     }
 
     /// Splits the breaking grains: each parent becomes its + half in place and its − half is

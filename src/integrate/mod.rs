@@ -12,15 +12,15 @@ pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drif
 use nalgebra::UnitQuaternion;
 use rayon::prelude::*;
 
-use crate::parallel::threads_here;
+use crate::parallel::{blocks, on_team, split_ranges, threads_here};
 use crate::state::Vec3;
 
-/// Bodies below which an update runs on one thread whatever the pool.
+/// Bodies below which an update runs on one thread in a rayon pool without a team.
 const PAR_MIN: usize = 8192;
 
-/// Runs `update(i, x, v, ω, q)` on every body: across the pool's threads for large systems,
-/// in index order on this thread otherwise (each body's update is independent, so both give
-/// the same bits).
+/// Runs `update(i, x, v, ω, q)` on every body: in blocks dealt across the run's team, across
+/// the rayon pool for large systems of models that use no team, in index order on this thread
+/// otherwise (each body's update is independent, so all give the same bits).
 fn each_body(
     pos: &mut [Vec3],
     vel: &mut [Vec3],
@@ -28,7 +28,21 @@ fn each_body(
     orientation: &mut [UnitQuaternion<f64>],
     update: impl Fn(usize, &mut Vec3, &mut Vec3, &mut Vec3, &mut UnitQuaternion<f64>) + Sync + Send,
 ) {
-    if pos.len() >= PAR_MIN && threads_here() > 1 {
+    let ranges = blocks(pos.len());
+    if ranges.len() > 1 {
+        let parts: Vec<_> = ranges
+            .iter()
+            .zip(split_ranges(pos, &ranges))
+            .zip(split_ranges(vel, &ranges))
+            .zip(split_ranges(omega, &ranges))
+            .zip(split_ranges(orientation, &ranges))
+            .collect();
+        on_team(parts, |_, ((((r, x), v), w), q)| {
+            for k in 0..r.len() {
+                update(r.start + k, &mut x[k], &mut v[k], &mut w[k], &mut q[k]);
+            }
+        });
+    } else if pos.len() >= PAR_MIN && threads_here() > 1 {
         pos.par_iter_mut()
             .zip(vel.par_iter_mut())
             .zip(omega.par_iter_mut())
@@ -52,7 +66,19 @@ fn each_velocity(
     omega: &mut [Vec3],
     update: impl Fn((usize, (&mut Vec3, &mut Vec3))) + Sync + Send,
 ) {
-    if vel.len() >= PAR_MIN && threads_here() > 1 {
+    let ranges = blocks(vel.len());
+    if ranges.len() > 1 {
+        let parts: Vec<_> = ranges
+            .iter()
+            .zip(split_ranges(vel, &ranges))
+            .zip(split_ranges(omega, &ranges))
+            .collect();
+        on_team(parts, |_, ((r, v), w)| {
+            for (k, (v, w)) in v.iter_mut().zip(w.iter_mut()).enumerate() {
+                update((r.start + k, (v, w)));
+            }
+        });
+    } else if vel.len() >= PAR_MIN && threads_here() > 1 {
         vel.par_iter_mut()
             .zip(omega.par_iter_mut())
             .enumerate()

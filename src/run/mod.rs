@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value, json};
 
 use crate::error::{Error, Result};
-use crate::parallel::{on_threads, thread_pool};
+use crate::parallel::Threads;
 use crate::probe::Series;
 use crate::scene::{EffectKind, IntegratorKind, Scene};
 use crate::state::{Bodies, Vec3};
@@ -135,6 +135,13 @@ pub trait Model: Send + Sized {
     fn validate(scene: &Scene, section: &Self::Section) -> Result<()>;
     /// `fractum explain`: what the scene builds, without building it.
     fn explain(scene: &Scene) -> Result<String>;
+
+    /// Whether the step's parallel regions run on the run's worker team
+    /// ([`crate::parallel::Team`], awake while the run advances) rather than on rayon or the
+    /// caller alone, for an advance on `threads` threads.
+    fn use_team(&self, _threads: usize) -> bool {
+        false
+    }
 
     /// Builds the model a scene describes (runs on the run's threads).
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>>;
@@ -380,8 +387,8 @@ pub struct Runner<M> {
     pub model: M,
     /// The step of the last series row (rows are recorded once per step at most).
     last_row: Option<u64>,
-    /// The run's worker threads; `None` runs everything on the caller's thread.
-    pool: Option<Arc<rayon::ThreadPool>>,
+    /// The run's worker threads (none: everything runs on the caller's thread).
+    threads: Threads,
     /// Bounds on each advance call (not saved).
     limits: CallLimits,
 }
@@ -407,17 +414,17 @@ impl<M: Model> Runner<M> {
         threads: usize,
         progress: &mut (dyn FnMut(&str) + Send),
     ) -> Result<Self> {
-        let pool = thread_pool(threads)?;
-        let built = on_threads(&pool, || M::build(&scene, progress))?;
-        Ok(Runner::start(scene, built, pool))
+        let threads = Threads::new(threads)?;
+        let built = threads.run(false, || M::build(&scene, progress))?;
+        Ok(Runner::start(scene, built, threads))
     }
 
     /// Sets a run up on a model built elsewhere.
     pub fn from_built(scene: Scene, built: Built<M>, threads: usize) -> Result<Self> {
-        Ok(Runner::start(scene, built, thread_pool(threads)?))
+        Ok(Runner::start(scene, built, Threads::new(threads)?))
     }
 
-    fn start(scene: Scene, built: Built<M>, pool: Option<Arc<rayon::ThreadPool>>) -> Self {
+    fn start(scene: Scene, built: Built<M>, threads: Threads) -> Self {
         let mut run = Runner {
             scene,
             clock: Clock {
@@ -431,7 +438,7 @@ impl<M: Model> Runner<M> {
             model: built.model,
             last_row: None,
             limits: CallLimits::default(),
-            pool,
+            threads,
         };
         run.record_row();
         run
@@ -452,8 +459,8 @@ impl<M: Model> Runner<M> {
                 M::KIND
             ))
         })?;
-        let pool = thread_pool(threads)?;
-        let model = on_threads(&pool, || M::restore(&scene, &s.model))?;
+        let threads = Threads::new(threads)?;
+        let model = threads.run(false, || M::restore(&scene, &s.model))?;
         Ok(Runner {
             scene,
             clock: s.clock,
@@ -462,18 +469,19 @@ impl<M: Model> Runner<M> {
             model,
             last_row: s.last_row,
             limits: CallLimits::default(),
-            pool,
+            threads,
         })
     }
 
     pub fn threads(&self) -> usize {
-        self.pool.as_ref().map_or(1, |p| p.current_num_threads())
+        self.threads.count()
     }
 
     /// Runs `f` on the run's threads (or right here without a pool).
     pub fn on_threads<R: Send>(&mut self, f: impl FnOnce(&mut Self) -> R + Send) -> R {
-        let pool = self.pool.clone();
-        on_threads(&pool, || f(self))
+        let threads = self.threads.clone();
+        let team = self.model.use_team(threads.count());
+        threads.run(team, || f(self))
     }
 
     pub fn finished(&self) -> bool {

@@ -8,6 +8,7 @@ mod walls;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
+use crate::parallel::{blocks, on_team};
 use crate::shape::{self, PolyEllipsoid, Shape};
 
 pub use walls::{BoxFace, Wall, Walls, plane_distance};
@@ -226,11 +227,18 @@ impl Bodies {
 
     /// The first body with a non-finite position or velocity, if any.
     pub fn first_non_finite(&self) -> Option<usize> {
-        (0..self.len()).find(|&i| {
-            !(self.pos[i].iter().all(|v| v.is_finite())
-                && self.vel[i].iter().all(|v| v.is_finite())
-                && self.omega[i].iter().all(|v| v.is_finite()))
+        // Checked after every step: across the run's team, each member over the bodies it
+        // integrates (the data stays in that core's cache).
+        on_team(blocks(self.len()), |_, mut range| {
+            range.find(|&i| {
+                !(self.pos[i].iter().all(|v| v.is_finite())
+                    && self.vel[i].iter().all(|v| v.is_finite())
+                    && self.omega[i].iter().all(|v| v.is_finite()))
+            })
         })
+        .into_iter()
+        .flatten()
+        .next()
     }
 }
 
