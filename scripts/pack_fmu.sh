@@ -9,7 +9,11 @@ stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/binaries/linux64" "$stage/resources" dist
 cp "${CARGO_TARGET_DIR:-target}/release/libfractum_shpb.so" "$stage/binaries/linux64/fractum_shpb.so"
-cp fmu/modelDescription.xml "$stage/"
+# The version from the crate, the date from the commit (not the clock: the same commit packs
+# the same description).
+version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -1)
+date=$(TZ=UTC git log -1 --format=%cd --date=format-local:%Y-%m-%dT%H:%M:%SZ 2>/dev/null || echo 1970-01-01T00:00:00Z)
+sed -e "s/@VERSION@/$version/g" -e "s/@DATE@/$date/g" fmu/modelDescription.xml >"$stage/modelDescription.xml"
 cp scenes/shpb_sand.toml "$stage/resources/"
 rm -f dist/.Fractum.fmu.tmp
 (cd "$stage" && python3 -m zipfile -c "$root/dist/.Fractum.fmu.tmp" modelDescription.xml binaries resources)

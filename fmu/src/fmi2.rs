@@ -95,7 +95,8 @@ pub enum Phase {
     Initialization,
     Running,
     Terminated,
-    /// A step failed: only Reset, FreeInstance and getters are allowed.
+    /// A step or the initialisation failed: only Terminate, Reset, FreeInstance and getters
+    /// are allowed.
     Failed,
 }
 
@@ -409,10 +410,28 @@ pub extern "C" fn fmi2EnterInitializationMode(c: fmi2Component) -> fmi2Status {
 pub extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
     with_instance(c, "fmi2ExitInitializationMode", |i| {
         i.expect(&[Phase::Initialization], "fmi2ExitInitializationMode")?;
-        i.model.build(&i.resources)?;
-        if i.logging {
-            i.log(fmi2Status_fmi2OK, "logAll", &i.model.built());
+        // The build takes seconds: its start and end are logged whatever the debug logging
+        // setting, so that a master's user sees why the call takes long (issue 17).
+        i.log(
+            fmi2Status_fmi2OK,
+            "logBuild",
+            "building the specimen (packing and settling the grains; a few seconds)",
+        );
+        let started = std::time::Instant::now();
+        if let Err(why) = i.model.build(&i.resources) {
+            // Only Terminate, Reset, FreeInstance and getters from here.
+            i.phase = Phase::Failed;
+            return Err(why);
         }
+        i.log(
+            fmi2Status_fmi2OK,
+            "logBuild",
+            &format!(
+                "{} in {:.1} s",
+                i.model.built(),
+                started.elapsed().as_secs_f64()
+            ),
+        );
         i.phase = Phase::Running;
         Ok(fmi2Status_fmi2OK)
     })
@@ -421,7 +440,9 @@ pub extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2Terminate(c: fmi2Component) -> fmi2Status {
     with_instance(c, "fmi2Terminate", |i| {
-        i.expect(&[Phase::Running], "fmi2Terminate")?;
+        // After a failed step or initialisation too: masters (OMSimulator) terminate every
+        // instance they initialised, and refusing it only repeated the first error.
+        i.expect(&[Phase::Running, Phase::Failed], "fmi2Terminate")?;
         i.phase = Phase::Terminated;
         Ok(fmi2Status_fmi2OK)
     })

@@ -226,21 +226,25 @@ impl Model for Shpb {
         let v = &self.vars;
         let area = |d: f64| std::f64::consts::PI * d * d / 4.0;
         let (top, bottom) = (self.out.top, self.out.bottom);
-        Ok(match r {
-            vr::V_INCIDENT => v.v_incident,
-            vr::V_TRANSMITTED => v.v_transmitted,
-            vr::SPECIMEN_DIAMETER => v.specimen_diameter,
-            vr::BAR_DIAMETER => v.bar_diameter,
-            vr::STRESS_INCIDENT => top,
-            vr::STRESS_TRANSMITTED => bottom,
-            vr::FORCE_INCIDENT => top * area(v.specimen_diameter),
-            vr::FORCE_TRANSMITTED => bottom * area(v.specimen_diameter),
-            vr::BAR_STRESS_INCIDENT => top * area(v.specimen_diameter) / area(v.bar_diameter),
-            vr::BAR_STRESS_TRANSMITTED => bottom * area(v.specimen_diameter) / area(v.bar_diameter),
-            vr::STRAIN => self.out.strain,
-            vr::KINETIC_ENERGY => self.out.kinetic,
-            _ => return Err(format!("{r} is not the value reference of a Real variable")),
-        })
+        // `+ 0.0` turns a negative zero (a face without contacts) into 0: masters wrote "-0".
+        Ok(0.0
+            + match r {
+                vr::V_INCIDENT => v.v_incident,
+                vr::V_TRANSMITTED => v.v_transmitted,
+                vr::SPECIMEN_DIAMETER => v.specimen_diameter,
+                vr::BAR_DIAMETER => v.bar_diameter,
+                vr::STRESS_INCIDENT => top,
+                vr::STRESS_TRANSMITTED => bottom,
+                vr::FORCE_INCIDENT => top * area(v.specimen_diameter),
+                vr::FORCE_TRANSMITTED => bottom * area(v.specimen_diameter),
+                vr::BAR_STRESS_INCIDENT => top * area(v.specimen_diameter) / area(v.bar_diameter),
+                vr::BAR_STRESS_TRANSMITTED => {
+                    bottom * area(v.specimen_diameter) / area(v.bar_diameter)
+                }
+                vr::STRAIN => self.out.strain,
+                vr::KINETIC_ENERGY => self.out.kinetic,
+                _ => return Err(format!("{r} is not the value reference of a Real variable")),
+            })
     }
 
     fn set_real(&mut self, r: u32, value: f64, phase: Phase) -> Result<(), Failure> {

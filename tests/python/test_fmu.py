@@ -266,3 +266,91 @@ def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzippe
     lib.fmi2FreeInstance(c)
     # A wrong GUID is refused at instantiation.
     assert not lib.fmi2Instantiate(b"bad", 1, b"{not-the-guid}", b"", None, 0, 0)
+
+
+def test_model_structure_states_no_feedthrough_and_it_holds(unzipped):
+    # Issue 17, problem 2 / Deliver 2: without `dependencies` every output depends on every input (FMI 2.0),
+    # and OMSimulator set up an algebraic-loop solver. Outputs are computed at the end of a
+    # communication step: inputs set after it must change none of them, bit for bit.
+    md = read_model_description(FMU)
+    outputs = [v for v in md.modelVariables if v.causality == "output"]
+    assert sorted(u.variable.name for u in md.outputs) == sorted(v.name for v in outputs)
+    for u in md.outputs:
+        assert u.dependencies == [], (u.variable.name, u.dependencies)
+    inputs = {v.name for v in md.modelVariables if v.causality == "input"}
+    for u in md.initialUnknowns:
+        # At initialisation from the specimen and the diameters, never from the inputs.
+        assert not {d.name for d in u.dependencies} & inputs, u.variable.name
+        assert all(d.causality == "parameter" for d in u.dependencies), u.variable.name
+    fmu = slave(unzipped, "feedthrough")
+    run(fmu, 0.0, 1e-6, 5)
+    refs = [v.valueReference for v in outputs if v.type == "Real"]
+    before = fmu.getReal(refs)
+    broken = fmu.getInteger([BROKEN_PARTICLES])
+    assert before[refs.index(STRAIN)] > 0 and before[refs.index(STRESS_INCIDENT)] > 0
+    fmu.setReal([V_INCIDENT, V_TRANSMITTED], [7.0, -2.0])
+    assert fmu.getReal(refs) == before
+    assert fmu.getInteger([BROKEN_PARTICLES]) == broken
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+def test_units_display_units_and_provenance_are_declared():
+    # Issue 17, problem 9.
+    md = read_model_description(FMU)
+    v = {x.name: x for x in md.modelVariables}
+    assert v["strain"].unit == "1"
+    assert v["stress_incident"].unit == "Pa" and v["stress_incident"].displayUnit == "MPa"
+    assert v["specimen_diameter"].displayUnit == "mm"
+    mpa = [d for u in md.unitDefinitions if u.name == "Pa" for d in u.displayUnits]
+    assert [(d.name, d.factor) for d in mpa] == [("MPa", 1e-6)]
+    assert md.author and md.version == "0.1.0"
+    assert md.generationDateAndTime and md.generationDateAndTime.endswith("Z")
+
+
+FAILED_INIT = r"""
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi2 import FMU2Slave
+path, scene = sys.argv[1], sys.argv[2]
+md = read_model_description(path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="init")
+fmu.instantiate(loggingOn=False)
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.setString([14], [scene])
+try:
+    fmu.exitInitializationMode()
+    print("initialised")
+except Exception:
+    print("initialisation failed")
+fmu.terminate()
+print("terminated")
+fmu.freeInstance()
+"""
+
+
+def test_a_failed_initialisation_is_one_error_and_terminate_is_accepted():
+    # Issue 17, problem 7 / Deliver 4: after a failed initialisation OMSimulator calls fmi2Terminate, which
+    # was refused: nine errors for one cause.
+    p = subprocess.run(
+        [sys.executable, "-c", FAILED_INIT, FMU, "no_such_scene.toml"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert p.returncode == 0, p.stderr
+    lines = p.stdout.splitlines()
+    errors = [l for l in lines if l.startswith("[ERROR]")]
+    assert len(errors) == 1 and "no_such_scene.toml" in errors[0], p.stdout
+    assert "initialisation failed" in lines and "terminated" in lines, p.stdout
+    # Problem 5 / Deliver 4: the seconds-long build says when it starts and ends, with debug
+    # logging off.
+    p = subprocess.run(
+        [sys.executable, "-c", FAILED_INIT, FMU, "shpb_sand.toml"],
+        capture_output=True, text=True, timeout=300,
+    )
+    assert p.returncode == 0, p.stderr
+    ok = [l for l in p.stdout.splitlines() if l.startswith("[OK]")]
+    assert len(ok) == 2 and "building the specimen" in ok[0], p.stdout
+    assert "specimen built:" in ok[1] and ok[1].endswith(" s"), p.stdout
+    assert "initialised" in p.stdout and "terminated" in p.stdout and "[ERROR]" not in p.stdout
