@@ -66,7 +66,9 @@ struct Variables {
 impl Default for Variables {
     fn default() -> Self {
         Variables {
-            v_incident: 0.0,
+            // As modelDescription.xml's start: the default experiment compacts the specimen
+            // at 500/s (with 0, `fmpy simulate` drew a flat line).
+            v_incident: 3.0,
             v_transmitted: 0.0,
             specimen_diameter: 19.05e-3,
             bar_diameter: 19.05e-3,
