@@ -726,7 +726,8 @@ pub extern "C" fn fmi2FreeFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -
 /// What a serialized FMU state starts with, and its format version (sealed: length and
 /// checksum too, so a damaged state is refused before it is decoded).
 const STATE_MAGIC: &[u8; 8] = b"FRACTUMF";
-const STATE_VERSION: u32 = 1;
+/// 2: the `fracture` parameter joined the saved variables.
+const STATE_VERSION: u32 = 2;
 
 fn serialize(saved: &Saved) -> Vec<u8> {
     sealed::seal(

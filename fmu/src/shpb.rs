@@ -45,6 +45,8 @@ pub mod vr {
     pub const SEED: u32 = 13;
     /// String variable.
     pub const SCENE: u32 = 14;
+    /// Boolean variable.
+    pub const FRACTURE: u32 = 15;
 }
 
 /// Everything a host can set, and the time.
@@ -56,6 +58,9 @@ struct Variables {
     bar_diameter: f64,
     seed: i32,
     scene: String,
+    /// Whether the grains may break (the scene's `fracture`, `cohesion` and `weibull`
+    /// effects); false builds the same specimen without them.
+    fracture: bool,
     /// The communication time (s) the outputs refer to.
     time: f64,
     /// The experiment's start time (s): the specimen's own clock reads `time - start`.
@@ -74,6 +79,7 @@ impl Default for Variables {
             bar_diameter: 19.05e-3,
             seed: 1,
             scene: DEFAULT_SCENE.to_string(),
+            fracture: true,
             time: 0.0,
             start: 0.0,
         }
@@ -170,12 +176,25 @@ impl Shpb {
     /// The specimen's scene: the `scene` parameter's file with `seed`, no VTK and no series
     /// rows (the host reads the outputs).
     fn scene(&self, resources: &Path, seed: i32) -> Result<fractum::Scene, Failure> {
-        let overrides = vec![
+        let mut overrides = vec![
             format!("seed={seed}"),
             "output.vtk=0".to_string(),
             "output.every=1000000000".to_string(),
         ];
-        fractum::Scene::load(&self.scene_path(resources)?, &overrides).map_err(|e| e.to_string())
+        let path = self.scene_path(resources)?;
+        if !self.vars.fracture {
+            // The scene's own effects less the three of grain breakage.
+            let scene = fractum::Scene::load(&path, &overrides).map_err(|e| e.to_string())?;
+            use fractum::scene::EffectKind::{Cohesion, Fracture, Weibull};
+            let keep: Vec<String> = scene
+                .effects
+                .iter()
+                .filter(|e| !matches!(e, Fracture | Cohesion | Weibull))
+                .map(|e| format!("\"{}\"", e.as_str()))
+                .collect();
+            overrides.push(format!("effects=[{}]", keep.join(", ")));
+        }
+        fractum::Scene::load(&path, &overrides).map_err(|e| e.to_string())
     }
 }
 
@@ -187,6 +206,7 @@ impl Model for Shpb {
         &[Phase::Instantiated, Phase::Initialization, Phase::Running];
     const SET_INTEGER_IN: &'static [Phase] = &[Phase::Instantiated, Phase::Initialization];
     const SET_STRING_IN: &'static [Phase] = &[Phase::Instantiated, Phase::Initialization];
+    const HAS_BOOLEANS: bool = true;
     type Saved = Saved;
 
     fn time(&self) -> f64 {
@@ -306,6 +326,29 @@ impl Model for Shpb {
                 ));
             }
         }
+        Ok(())
+    }
+
+    fn boolean(&self, r: u32) -> Result<bool, Failure> {
+        if r != vr::FRACTURE {
+            return Err(format!(
+                "{r} is not the value reference of a Boolean variable"
+            ));
+        }
+        Ok(self.vars.fracture)
+    }
+
+    fn set_boolean(&mut self, r: u32, value: bool, phase: Phase) -> Result<(), Failure> {
+        if r != vr::FRACTURE {
+            return Err(format!(
+                "{r} is not the value reference of a Boolean variable"
+            ));
+        }
+        phase.expect(
+            &[Phase::Instantiated, Phase::Initialization],
+            "setting the parameter fracture",
+        )?;
+        self.vars.fracture = value;
         Ok(())
     }
 
@@ -436,6 +479,7 @@ mod tests {
             ("broken_particles", vr::BROKEN_PARTICLES),
             ("seed", vr::SEED),
             ("scene", vr::SCENE),
+            ("fracture", vr::FRACTURE),
         ];
         let vars = described();
         assert_eq!(vars.len(), names.len());
@@ -458,6 +502,12 @@ mod tests {
                     }
                 }
                 "String" => assert_eq!(Some(model.string(r).unwrap()), start, "{name}"),
+                "Boolean" => {
+                    let v = model.boolean(r).unwrap();
+                    if let Some(s) = start {
+                        assert_eq!(v, s.parse::<bool>().unwrap(), "{name}");
+                    }
+                }
                 other => panic!("{name}: a {other} variable the model does not have"),
             }
         }

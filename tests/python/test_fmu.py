@@ -372,3 +372,35 @@ def test_the_default_experiment_compacts_the_specimen():
     quarters = [stress[k * (n - 1) // 4] for k in range(1, 5)]
     assert all(b > a for a, b in zip(quarters, quarters[1:])), quarters
     assert stress[-1] > 5e6, stress[-1]
+
+
+def test_the_fracture_parameter_builds_the_same_specimen_with_unbreakable_grains(unzipped):
+    # Issue 17 Deliver 5: the shipped scene with and without grain breakage.
+    md = read_model_description(FMU)
+    fracture = next(v for v in md.modelVariables if v.name == "fracture")
+    assert (fracture.type, fracture.causality, fracture.start) == ("Boolean", "parameter", "true")
+    outputs = {}
+    for on in (True, False):
+        fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
+                        modelIdentifier=md.coSimulation.modelIdentifier,
+                        instanceName=f"fracture_{on}")
+        fmu.instantiate()
+        fmu.setBoolean([fracture.valueReference], [on])
+        fmu.setupExperiment(startTime=0.0)
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        initial = fmu.getReal([STRESS_INCIDENT, STRESS_TRANSMITTED])
+        run(fmu, 0.0, 1e-6, 5)
+        outputs[on] = (initial, fmu.getInteger([BROKEN_PARTICLES])[0], fmu.getReal([STRAIN])[0])
+        # Too late once running: a parameter.
+        with pytest.raises(Exception):
+            fmu.setBoolean([fracture.valueReference], [not on])
+        fmu.terminate()
+        fmu.freeInstance()
+    # The same packing (seed and scene), the same loading; only breakage differs.
+    assert outputs[True][0] == outputs[False][0]
+    # Strain = 3 m/s * 5 us / 6 mm, to round-off (breaking grains shorten the internal step, so
+    # the two runs sum different steps).
+    for on in (True, False):
+        assert abs(outputs[on][2] / 0.0025 - 1) < 1e-9, outputs[on]
+    assert outputs[True][1] > 0 and outputs[False][1] == 0, outputs
