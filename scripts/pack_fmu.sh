@@ -4,11 +4,26 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
-cargo build --release -p fractum-fmu
+target=${CARGO_TARGET_DIR:-target}
+# A portable binary: linked by zig against glibc 2.17 (RHEL 7 and later; the system linker's
+# build needs the build machine's glibc, 2.35 here) with libc++ inside. cargo-zigbuild and zig
+# come from PyPI into .venv (make test installs them); without them the system build is packed,
+# with a warning. zig's linker refuses --exclude-libs, so that build also exports the cxx
+# bridge's and voro++'s C symbols besides the 34 fmi2 functions (fmu/build.rs).
+PATH="$root/.venv/bin:$PATH"
+if command -v cargo-zigbuild >/dev/null && command -v python-zig >/dev/null; then
+    cargo zigbuild --release -p fractum-fmu --target x86_64-unknown-linux-gnu.2.17 --target-dir "$target/zig"
+    so="$target/zig/x86_64-unknown-linux-gnu/release/libfractum_shpb.so"
+else
+    echo "warning: cargo-zigbuild or zig not found (pip install ziglang cargo-zigbuild): the FMU's binary needs this machine's glibc" >&2
+    cargo build --release -p fractum-fmu
+    so="$target/release/libfractum_shpb.so"
+fi
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT
 mkdir -p "$stage/binaries/linux64" "$stage/resources" dist
-cp "${CARGO_TARGET_DIR:-target}/release/libfractum_shpb.so" "$stage/binaries/linux64/fractum_shpb.so"
+# Stripped: 40 MB of debug information unzipped on every instantiation otherwise.
+strip --strip-all -o "$stage/binaries/linux64/fractum_shpb.so" "$so"
 # The version from the crate, the date from the commit (not the clock: the same commit packs
 # the same description).
 version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -1)
