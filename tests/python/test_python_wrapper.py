@@ -1,4 +1,4 @@
-"""The ctypes wrapper (ffi/python/fractum.py) in plain Python: the SHPB scene, then reduced
+"""The ctypes wrapper (ffi/python/fractum) in plain Python: the SHPB scene, then reduced
 dlsm and beam2d scenes through the generic calls."""
 import os
 

@@ -1,13 +1,15 @@
 # Runs inside YADE's Python: `yade -n -x tests/python/yade_wrapper.py`, with FRACTUM_ROOT (the
-# repository) and FRACTUM_LIB set; YADE's __file__ is not this script's path.
+# repository) set and the package installed by `pip install --target DIR ./ffi/python` on
+# PYTHONPATH (no FRACTUM_LIB: the library comes inside the package); YADE's __file__ is not this
+# script's path.
 # Drives the Fractum SHPB specimen through the ctypes wrapper and turns its grains into YADE
 # spheres, to show the two living in one process.
 import os
-import sys
 
 root = os.environ.get("FRACTUM_ROOT", os.getcwd())
-sys.path.insert(0, os.path.join(root, "ffi", "python"))
 import fractum  # noqa: E402
+
+print("yade: fractum from %s" % os.path.dirname(fractum.__file__))
 
 with fractum.Simulation(os.path.join(root, "scenes", "shpb_sand.toml"),
                         overrides=["output.vtk=0", "output.every=1000000000"]) as sim:

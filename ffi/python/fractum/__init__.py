@@ -3,9 +3,10 @@
 Any scene runs (granular, dlsm, beam2d); the SHPB calls (face speeds, forces and stresses)
 and radii apply to granular samples only and raise ModelError on the other models.
 
-Works in plain Python (3.8+) and in YADE's Python. The library is found through
-$FRACTUM_LIB, else next to this file in the repository's target/release/, else by the
-system loader ("libfractum.so").
+Works in plain Python (3.8+) and in YADE's Python. `pip install ./ffi/python` builds
+libfractum.so and installs it inside the package. The library is found through $FRACTUM_LIB,
+else inside the installed package, else in the repository's target/release/ (with ffi/python
+on sys.path), else by the system loader ("libfractum.so").
 
     import fractum
     with fractum.Simulation("scenes/shpb_sand.toml", overrides=["output.vtk=0"]) as sim:
@@ -78,7 +79,10 @@ def load_library(path=None):
         return _lib
     candidates = [path, os.environ.get("FRACTUM_LIB")]
     here = os.path.dirname(os.path.abspath(__file__))
-    candidates.append(os.path.join(here, "..", "..", "target", "release", "libfractum.so"))
+    # Installed (`pip install ./ffi/python`): the library built into the package.
+    candidates.append(os.path.join(here, "libfractum.so"))
+    # From the repository (ffi/python on sys.path): its release build.
+    candidates.append(os.path.join(here, "..", "..", "..", "target", "release", "libfractum.so"))
     candidates.append("libfractum.so")
     last = None
     for c in candidates:
