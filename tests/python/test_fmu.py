@@ -1,4 +1,4 @@
-"""The FMI 2.0 co-simulation FMU (dist/Fractum.fmu, packed by `make fmu`) under fmpy."""
+"""The FMI 2.0 co-simulation FMU (dist/Fractum.fmu, packed by `make fmu`) under fmpy and DNV's libcosim."""
 import json
 import os
 import re
@@ -481,3 +481,108 @@ def test_libcosim_gives_the_outputs_of_fmpy(unzipped):
     assert cosim[-1][0] > 1e6 and cosim[-1][4] > 0.01, cosim[-1]
     fmu.terminate()
     fmu.freeInstance()
+
+
+BAR_DIR = os.path.join(ROOT, "tests", "python", "bar_fmu")
+RHO, C_BAR, STRIKER = 7850.0, 5000.0, 10.0          # steel bars, m/s striker
+BAR_V_INTO, BAR_V_AWAY, BAR_INCIDENT, BAR_REFLECTED = 1, 2, 3, 4
+BAR_STRESS, BAR_STRIKER = 0, 7
+BAR_STRESS_TRANSMITTED = 7
+
+
+@pytest.fixture(scope="module")
+def bar_fmu(tmp_path_factory):
+    """The bar FMU of tests/python/bar_fmu (bar.c, a few lines of C) compiled and packed."""
+    stage = tmp_path_factory.mktemp("bar")
+    (stage / "binaries" / "linux64").mkdir(parents=True)
+    subprocess.run(["gcc", "-O2", "-shared", "-fPIC", "-Wall", "-Werror", "-Wno-unused-parameter",
+                    "-o", str(stage / "binaries" / "linux64" / "bar.so"),
+                    os.path.join(BAR_DIR, "bar.c")], check=True)
+    with open(os.path.join(BAR_DIR, "modelDescription.xml")) as f:
+        (stage / "modelDescription.xml").write_text(f.read())
+    path = str(tmp_path_factory.mktemp("fmus") / "bar.fmu")
+    import zipfile
+    with zipfile.ZipFile(path, "w") as z:
+        z.write(stage / "modelDescription.xml", "modelDescription.xml")
+        z.write(stage / "binaries" / "linux64" / "bar.so", "binaries/linux64/bar.so")
+    assert validate_fmu(path) == []
+    return path
+
+
+LIBCOSIM_SHPB = r"""
+import json, sys
+from libcosimpy.CosimExecution import CosimExecution
+from libcosimpy.CosimObserver import CosimObserver
+from libcosimpy.CosimSlave import CosimLocalSlave
+fractum, bar, h, n, striker = sys.argv[1], sys.argv[2], float(sys.argv[3]), int(sys.argv[4]), float(sys.argv[5])
+ex = CosimExecution.from_step_size(step_size=round(h * 1e9))  # nanoseconds
+s = ex.add_local_slave(CosimLocalSlave(fmu_path=fractum, instance_name="specimen"))
+bi = ex.add_local_slave(CosimLocalSlave(fmu_path=bar, instance_name="incident_bar"))
+bt = ex.add_local_slave(CosimLocalSlave(fmu_path=bar, instance_name="transmitted_bar"))
+ex.real_initial_value(bi, 7, striker)
+ex.connect_real_variables(bi, 1, s, 0)   # incident bar end velocity -> v_incident
+ex.connect_real_variables(bt, 2, s, 1)   # transmitted bar end, away -> v_transmitted
+ex.connect_real_variables(s, 6, bi, 0)   # bar_stress_incident -> incident bar end stress
+ex.connect_real_variables(s, 7, bt, 0)   # bar_stress_transmitted -> transmitted bar
+last = CosimObserver.create_last_value()
+ex.add_observer(last)
+rows = []
+for k in range(n):
+    ex.step()
+    rows.append(last.last_real_values(s, [2, 3, 8]) + last.last_real_values(bi, [3, 4]))
+print("ROWS " + json.dumps(rows))
+"""
+
+
+def test_a_coupled_shpb_of_three_fmus_runs_alike_in_libcosim_and_an_fmpy_master(unzipped, bar_fmu):
+    # Issue 17 Deliver 6, second part: Fractum between two bar FMUs (bar.c), the incident bar
+    # struck at 10 m/s, in libcosim and in a Jacobi master written here with fmpy (outputs at
+    # t_k to inputs, then every FMU steps from t_k), 20 steps of 1 us.
+    h, n = 1e-6, 20
+    p = subprocess.run([sys.executable, "-c", LIBCOSIM_SHPB, FMU, bar_fmu, repr(h), str(n), repr(STRIKER)],
+                       capture_output=True, text=True, timeout=900)
+    rows = [l for l in p.stdout.splitlines() if l.startswith("ROWS ")]
+    assert p.returncode == 0 and rows, p.stdout[-2000:] + p.stderr[-2000:]
+    cosim = json.loads(rows[0][5:])
+
+    md, bmd = read_model_description(FMU), read_model_description(bar_fmu)
+    bar_dir = extract(bar_fmu)
+    spec = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
+                     modelIdentifier=md.coSimulation.modelIdentifier, instanceName="specimen")
+    bars = [FMU2Slave(guid=bmd.guid, unzipDirectory=bar_dir, modelIdentifier="bar",
+                      instanceName=name) for name in ("incident_bar", "transmitted_bar")]
+    for f in [spec] + bars:
+        f.instantiate()
+        f.setupExperiment(startTime=0.0)
+        f.enterInitializationMode()
+    bars[0].setReal([BAR_STRIKER], [STRIKER])
+    for f in [spec] + bars:
+        f.exitInitializationMode()
+
+    def transfer():
+        si, st = spec.getReal([BAR_STRESS_INCIDENT, BAR_STRESS_TRANSMITTED])
+        vi, = bars[0].getReal([BAR_V_INTO])
+        vt, = bars[1].getReal([BAR_V_AWAY])
+        spec.setReal([V_INCIDENT, V_TRANSMITTED], [vi, vt])
+        bars[0].setReal([BAR_STRESS], [si])
+        bars[1].setReal([BAR_STRESS], [st])
+
+    mine = []
+    for k in range(n):
+        transfer()
+        for f in [spec] + bars:
+            f.doStep(currentCommunicationPoint=k * h, communicationStepSize=h)
+        mine.append(spec.getReal([STRESS_INCIDENT, STRESS_TRANSMITTED, STRAIN])
+                    + bars[0].getReal([BAR_INCIDENT, BAR_REFLECTED]))
+    for f in [spec] + bars:
+        f.terminate()
+        f.freeInstance()
+    # The incident pulse is rho c V / 2 (the striker's half-speed wave) in both masters.
+    for row in (mine[-1], cosim[-1]):
+        assert row[3] == pytest.approx(0.5 * RHO * C_BAR * STRIKER, rel=1e-12)
+    # The specimen was loaded at about 2 sigma_I / Z = V: strain near V t / 6 mm.
+    assert 0.5 * STRIKER * n * h / 6e-3 < mine[-1][2] < 1.1 * STRIKER * n * h / 6e-3, mine[-1]
+    # The two masters: the specimen stress within 1e-4 at every communication point.
+    for k, (a, b) in enumerate(zip(mine, cosim)):
+        for name, x, y in zip(["stress_incident", "stress_transmitted", "strain"], a, b):
+            assert abs(x - y) <= 1e-4 * max(abs(x), abs(y)), (k, name, x, y)
