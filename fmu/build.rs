@@ -1,8 +1,8 @@
-//! Links the FMU's shared object so that it exports the fmi2 functions only: symbols from the
-//! static libraries it links (the cxx bridge, voro++, the Rust runtime) become local, so they
-//! cannot clash with a master's own (rustc exports every `#[no_mangle]` function of a cdylib,
-//! the cxx bridge's included). zig's linker driver (cargo-zigbuild, for the old-glibc build)
-//! refuses `--exclude-libs`: that build keeps them.
+//! Links the FMU's shared object so that it exports the fmi2 functions only: rustc exports every
+//! `#[no_mangle]` function of a cdylib's dependencies, which here is fmi-sys's importer-side
+//! `callback_log`; `--exclude-libs` makes it local. zig's linker driver (cargo-zigbuild, the
+//! old-glibc build of `make fmu`) refuses that flag, so that build exports `callback_log` too.
+//! (The FMU depends on fractum without its `voronoi` feature: no voro++, no cxx bridge.)
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
     println!("cargo:rerun-if-env-changed=RUSTC_LINKER");

@@ -8,8 +8,8 @@ target=${CARGO_TARGET_DIR:-target}
 # A portable binary: linked by zig against glibc 2.17 (RHEL 7 and later; the system linker's
 # build needs the build machine's glibc, 2.35 here) with libc++ inside. cargo-zigbuild and zig
 # come from PyPI into .venv (make test installs them); without them the system build is packed,
-# with a warning. zig's linker refuses --exclude-libs, so that build also exports the cxx
-# bridge's and voro++'s C symbols besides the 34 fmi2 functions (fmu/build.rs).
+# with a warning. zig's linker refuses --exclude-libs, so that build also exports fmi-sys's
+# callback_log besides the 34 fmi2 functions (fmu/build.rs).
 PATH="$root/.venv/bin:$PATH"
 if command -v cargo-zigbuild >/dev/null && command -v python-zig >/dev/null; then
     cargo zigbuild --release -p fractum-fmu --target x86_64-unknown-linux-gnu.2.17 --target-dir "$target/zig"

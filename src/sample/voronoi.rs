@@ -14,10 +14,13 @@ use nalgebra::Matrix3;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
+#[cfg(feature = "voronoi")]
 use voro_rs::prelude::*;
 
 use super::pack_geometric;
-use crate::shape::polyhedron::{FaceGeometry, Polyhedron, principal_axes};
+#[cfg(feature = "voronoi")]
+use crate::shape::polyhedron::FaceGeometry;
+use crate::shape::polyhedron::{Polyhedron, principal_axes};
 use crate::state::{Bodies, Vec3, spatial_order};
 
 /// The region a sample fills.
@@ -58,6 +61,7 @@ pub const BOX_FACES: [Boundary; 6] = [
 
 /// voro++ gives container faces the neighbour ids −1 … −6 (x−, x+, y−, y+, z−, z+); the
 /// curved wall gets this one.
+#[cfg_attr(not(feature = "voronoi"), allow(dead_code))]
 const CURVED_WALL_ID: i32 = -7;
 
 /// What lies across a face of a cell.
@@ -157,6 +161,7 @@ impl Domain {
 
     /// Length scale used to tessellate in units of order one (voro++'s tolerances are
     /// absolute): the curved radius, or the largest box edge.
+    #[cfg_attr(not(feature = "voronoi"), allow(dead_code))]
     fn scale(&self) -> f64 {
         match *self {
             Domain::Box { lo, hi } => (hi - lo).max(),
@@ -260,6 +265,23 @@ pub fn tessellate(seeds: &[Vec3], domain: &Domain) -> Result<Vec<VoronoiCell>, S
             seeds[k]
         ));
     }
+    voro_cells(seeds, domain)?
+        .into_iter()
+        .enumerate()
+        .map(|(k, c)| c.ok_or_else(|| format!("the Voronoi cell of seed {k} vanished")))
+        .collect()
+}
+
+/// Without the `voronoi` feature (voro++ and its C++ bridge, left out of the FMU, which needs
+/// granular samples only) there are no Voronoi samples.
+#[cfg(not(feature = "voronoi"))]
+fn voro_cells(_seeds: &[Vec3], _domain: &Domain) -> Result<Vec<Option<VoronoiCell>>, String> {
+    Err("needs a Voronoi tessellation, which this build of Fractum leaves out (cargo feature `voronoi`)".to_string())
+}
+
+/// Each seed's cell from voro++ (None where it vanished), in the order of the seeds.
+#[cfg(feature = "voronoi")]
+fn voro_cells(seeds: &[Vec3], domain: &Domain) -> Result<Vec<Option<VoronoiCell>>, String> {
     // Tessellate in units of the domain's size, centred where the curved walls are.
     let s = domain.scale();
     let (lo, hi) = domain.bounds();
@@ -317,13 +339,10 @@ pub fn tessellate(seeds: &[Vec3], domain: &Domain) -> Result<Vec<VoronoiCell>, S
             }
         }
     }
-    cells
-        .into_iter()
-        .enumerate()
-        .map(|(k, c)| c.ok_or_else(|| format!("the Voronoi cell of seed {k} vanished")))
-        .collect()
+    Ok(cells)
 }
 
+#[cfg(feature = "voronoi")]
 /// Converts a voro++ cell (computed in units of `s`, vertices relative to its seed).
 fn cell_from_voro(c: &mut VoroCellNbr, seed: &Vec3, s: f64) -> Result<VoronoiCell, String> {
     let local = c.vertices_local();

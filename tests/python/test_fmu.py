@@ -430,10 +430,11 @@ def test_the_binary_is_portable_stripped_and_exports_the_fmi2_functions(unzipped
                              check=True).stdout.split()[2::3]
     fmi2 = sorted(s for s in defined if s.startswith("fmi2"))
     assert fmi2 == sorted("fmi2" + f for f in FMI2_FUNCTIONS) and len(fmi2) == 34
-    # zig's linker (the glibc 2.17 build) cannot hide the C symbols of the cxx bridge and
-    # voro++ (--exclude-libs is refused); nothing else may be exported.
+    # The FMU links fractum without voro++ and its cxx bridge (154 symbols before); zig's
+    # linker (the glibc 2.17 build) refuses --exclude-libs, which would hide fmi-sys's
+    # importer-side callback_log, the one other symbol rustc exports.
     others = [s for s in defined if not s.startswith("fmi2")]
-    assert all(s.startswith(("cxxbridge1$", "voro", "callback_log")) for s in others), others
+    assert others in ([], ["callback_log"]), others
 
 
 LIBCOSIM_RAMP = r"""
