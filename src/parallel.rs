@@ -128,6 +128,8 @@ struct Shared {
     job: UnsafeCell<Option<*const Job>>,
     /// Members that have not finished the current job.
     pending: AtomicUsize,
+    /// A job is being handed out (a second caller at the same time runs its job alone).
+    busy: AtomicBool,
     /// Whether members spin between jobs.
     awake: AtomicBool,
     quit: AtomicBool,
@@ -155,6 +157,7 @@ impl Team {
             epoch: AtomicU64::new(0),
             job: UnsafeCell::new(None),
             pending: AtomicUsize::new(0),
+            busy: AtomicBool::new(false),
             awake: AtomicBool::new(false),
             quit: AtomicBool::new(false),
             sleeping: AtomicUsize::new(0),
@@ -200,6 +203,22 @@ impl Team {
     /// finished. A panic in any member is raised here after all have finished.
     pub fn run<'a>(&self, job: &'a (dyn Fn(usize) + Sync + 'a)) {
         let s = &*self.shared;
+        // One job at a time. A run owns its team, so a second caller does not happen in the
+        // library; were it to, its members' shares run here, in order (which member computes
+        // a share changes no result).
+        if s.busy.swap(true, Ordering::Acquire) {
+            for member in 0..s.size {
+                job(member);
+            }
+            return;
+        }
+        struct Done<'a>(&'a AtomicBool);
+        impl Drop for Done<'_> {
+            fn drop(&mut self) {
+                self.0.store(false, Ordering::Release);
+            }
+        }
+        let _done = Done(&s.busy);
         // SAFETY: the job outlives its use: this function returns only after every member has
         // finished with it (`pending` = 0), unwinding included. No member reads `job` now:
         // the last job's `pending` reached 0 before the last call returned.
@@ -462,6 +481,25 @@ mod tests {
             });
             assert_eq!(inner, vec![vec![0, 1], vec![10, 11]]);
         });
+    }
+
+    #[test]
+    fn two_callers_at_once_each_get_every_share_run() {
+        let team = Team::new(2).unwrap();
+        let total = AtomicUsize::new(0);
+        std::thread::scope(|scope| {
+            for _ in 0..2 {
+                scope.spawn(|| {
+                    for _ in 0..2000 {
+                        team.run(&|m| {
+                            total.fetch_add(m + 1, Ordering::SeqCst);
+                        });
+                    }
+                });
+            }
+        });
+        // Each run adds 1 + 2 for its two shares, whoever ran them.
+        assert_eq!(total.load(Ordering::SeqCst), 2 * 2000 * 3);
     }
 
     #[test]
