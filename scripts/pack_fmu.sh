@@ -4,7 +4,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
-target=${CARGO_TARGET_DIR:-target}
+target=${CARGO_TARGET_DIR:-$root/target}
 # A portable binary: linked by zig against glibc 2.17 (RHEL 7 and later; the system linker's
 # build needs the build machine's glibc, 2.35 here) with libc++ inside. cargo-zigbuild and zig
 # come from PyPI into .venv (make test installs them); without them the system build is packed,
@@ -12,7 +12,10 @@ target=${CARGO_TARGET_DIR:-target}
 # callback_log besides the 34 fmi2 functions (fmu/build.rs).
 PATH="$root/.venv/bin:$PATH"
 if command -v cargo-zigbuild >/dev/null && command -v python-zig >/dev/null; then
-    cargo zigbuild --release -p fractum-fmu --target x86_64-unknown-linux-gnu.2.17 --target-dir "$target/zig"
+    # From fmu/: zig reports its library folder relative to the working directory when that
+    # holds it (the repository holds .venv), and fmi-sys's bindgen, run from elsewhere, then
+    # missed every header ('stddef.h' file not found).
+    (cd fmu && cargo zigbuild --release -p fractum-fmu --target x86_64-unknown-linux-gnu.2.17 --target-dir "$target/zig")
     so="$target/zig/x86_64-unknown-linux-gnu/release/libfractum_shpb.so"
 else
     echo "warning: cargo-zigbuild or zig not found (pip install ziglang cargo-zigbuild): the FMU's binary needs this machine's glibc" >&2
