@@ -129,7 +129,8 @@ const SCENES: &[(&str, &[&str])] = &[
 ];
 
 /// Results depend on the thread count (only repeats on the same count are bit for bit), so
-/// each count has its own goldens; two threads take the parallel loops.
+/// each count has its own goldens; two threads take dlsm's and beam2d's parallel passes (the
+/// granular scenes here are too small for the worker team: tests/runs.rs covers it).
 const THREADS: [usize; 2] = [1, 2];
 
 const BLESS_HINT: &str = "if the change is deliberate, regenerate the goldens with \
