@@ -103,14 +103,10 @@ pub struct ContactRecords {
     pub dissipated: f64,
 }
 
-/// Below this many bodies per thread the pair loop runs on one thread. Spheres: a pair costs
-/// tens of nanoseconds, and handing half the rows to another core (its cache then fetches
-/// the bodies the caller just moved) cost more than it saved (2-core CI machine, 1000 dense
-/// spheres: 0.92x of one thread with the worker team, 0.86x at 2000 with rayon).
-pub const PARALLEL_MIN_BODIES_PER_THREAD: usize = 1500;
-
-/// The same for poly-ellipsoids, whose pairs each solve a Newton problem (microseconds).
-const PARALLEL_MIN_POLY_BODIES_PER_THREAD: usize = 100;
+/// Below this many bodies per thread the pair loop runs on one thread even with a worker
+/// team. Whether a step is worth the team at all (dense spheres below 1500 per thread are
+/// not) is the model's decision, [`crate::run::Model::use_team`].
+const PARALLEL_MIN_BODIES_PER_THREAD: usize = 100;
 
 /// One contact's force on body i (the first body of a pair; the body against a wall) and the
 /// torques on i and j, and what a record keeps of it. j receives the opposite force.
@@ -1032,12 +1028,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             self.records.dissipated = 0.0;
         }
         let threads = team_size();
-        let min = if POLY {
-            PARALLEL_MIN_POLY_BODIES_PER_THREAD
-        } else {
-            PARALLEL_MIN_BODIES_PER_THREAD
-        };
-        if threads > 1 && bodies.len() >= min * threads {
+        if threads > 1 && bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
             self.pairs_parallel(bodies, forces, ctx);
         } else {
             self.pairs_serial(bodies, forces, ctx);

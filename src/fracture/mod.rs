@@ -329,8 +329,8 @@ impl GrainFracture {
             }
         }
         critical.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
-        // Each grain's criteria read only its own sums: grains are checked in contiguous
-        // ranges across the run's team, and the ranges' verdicts joined in grain order.
+        // Each grain's criteria read only its own sums: grains are checked in blocks dealt
+        // across the run's team, and the blocks' verdicts joined in grain order.
         let moment = &*moment;
         let critical = &*critical;
         let verdicts = on_team(blocks(n), |_, grains| {

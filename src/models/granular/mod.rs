@@ -129,6 +129,10 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
     Some(ys[k - 1] + t * (ys[k] - ys[k - 1]))
 }
 
+/// Spheres per thread from which a granular step runs on the worker team (see
+/// `Model::use_team` below).
+const TEAM_MIN_SPHERES_PER_THREAD: usize = 1500;
+
 /// Above this estimated `ω dt` a run stops, above the second it warns.
 const OMEGA_DT_LIMIT: f64 = 2.0;
 const OMEGA_DT_WARN: f64 = 1.6;
@@ -652,12 +656,13 @@ impl Model for Granular {
         self.state.bodies.len()
     }
 
-    /// Poly-ellipsoids (a Newton solve per pair), or many spheres: at 1000 dense spheres a
-    /// step is ~100 us and a second core only added cache traffic (0.92x of one thread).
+    /// Poly-ellipsoids (a Newton solve per pair), or many spheres: a sphere pair costs tens
+    /// of nanoseconds, and handing half the bodies to another core (whose cache then fetches
+    /// the bodies the caller just moved) cost more than it saved (2-core CI machine, 1000
+    /// dense spheres: 0.92x of one thread on the team, 0.86x at 2000 with rayon).
     fn use_team(&self, threads: usize) -> bool {
         let b = &self.state.bodies;
-        b.len() >= crate::effects::contact::PARALLEL_MIN_BODIES_PER_THREAD * threads
-            || b.shape.iter().any(|s| !s.is_sphere())
+        b.len() >= TEAM_MIN_SPHERES_PER_THREAD * threads || b.shape.iter().any(|s| !s.is_sphere())
     }
 
     fn step(&mut self, _clock: &Clock, dt: f64) {
