@@ -8,8 +8,7 @@ target=${CARGO_TARGET_DIR:-$root/target}
 # A portable binary: linked by zig against glibc 2.17 (RHEL 7 and later; the system linker's
 # build needs the build machine's glibc, 2.35 here) with libc++ inside. cargo-zigbuild and zig
 # come from PyPI into .venv (make test installs them); without them the system build is packed,
-# with a warning. zig's linker refuses --exclude-libs, so that build also exports fmi-sys's
-# callback_log besides the 34 fmi2 functions (fmu/build.rs).
+# with a warning. Either build exports the 34 fmi2 functions only (fmu/build.rs).
 PATH="$root/.venv/bin:$PATH"
 if command -v cargo-zigbuild >/dev/null && command -v python-zig >/dev/null; then
     # From fmu/: zig reports its library folder relative to the working directory when that
