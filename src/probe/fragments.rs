@@ -168,6 +168,64 @@ pub fn fit_power_law(bins: &[MassBin], lo: f64, hi: f64) -> Option<PowerLawFit> 
     })
 }
 
+/// The fit of issue 20's pre-stated rule (docs/validation.md, "How β is fitted"): from the
+/// first bin whose centre is at least `lo` (kg) up to, not including, the first bin after it
+/// holding fewer than `min_per_run × runs` fragments; none with fewer than three bins.
+pub fn fit_power_law_counted(
+    bins: &[MassBin],
+    lo: f64,
+    min_per_run: f64,
+    runs: usize,
+) -> Option<PowerLawFit> {
+    let least = min_per_run * runs.max(1) as f64;
+    let used: Vec<&MassBin> = bins
+        .iter()
+        .skip_while(|b| b.centre() < lo)
+        .take_while(|b| b.count as f64 >= least)
+        .collect();
+    let (first, last) = (used.first()?, used.last()?);
+    let fit = fit_power_law(&bins_of(&used), first.centre(), last.centre())?;
+    Some(PowerLawFit {
+        range: [first.lo, last.hi],
+        ..fit
+    })
+}
+
+fn bins_of(used: &[&MassBin]) -> Vec<MassBin> {
+    used.iter().map(|b| **b).collect()
+}
+
+/// A 95% interval of a statistic of several runs by the bootstrap: `resamples` draws of
+/// `runs.len()` runs with replacement (a fixed-seed ChaCha stream, so the interval is
+/// reproducible), the statistic of each draw, and its 2.5 and 97.5 percentiles over the draws
+/// that gave one. None when fewer than half did.
+pub fn bootstrap_interval<T>(
+    runs: &[T],
+    resamples: usize,
+    seed: u64,
+    statistic: impl Fn(&[&T]) -> Option<f64>,
+) -> Option<[f64; 2]> {
+    use rand::{RngExt, SeedableRng};
+    if runs.is_empty() {
+        return None;
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut values: Vec<f64> = (0..resamples)
+        .filter_map(|_| {
+            let draw: Vec<&T> = (0..runs.len())
+                .map(|_| &runs[rng.random_range(0..runs.len())])
+                .collect();
+            statistic(&draw).filter(|v| v.is_finite())
+        })
+        .collect();
+    if values.len() * 2 < resamples.max(1) {
+        return None;
+    }
+    values.sort_by(f64::total_cmp);
+    let at = |q: f64| values[((q * (values.len() - 1) as f64).round()) as usize];
+    Some([at(0.025), at(0.975)])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -190,6 +248,45 @@ mod tests {
         let bins2 = mass_histogram(&twice, 1.0, 5, 2);
         assert!((bins2[3].density - bins[3].density).abs() < 1e-12 * bins[3].density);
         assert!(fit_power_law(&bins, 2.0, 2.5).is_none());
+    }
+
+    #[test]
+    fn the_counted_fit_stops_where_the_bins_thin_out() {
+        // 50 runs of the same exact β = 2 sample (m from 2 to 2000): the per-run count per
+        // quarter decade falls by 10^0.25 a bin, so with at least 5 per run the fit ends
+        // where the pooled count first drops under 250.
+        let n = 2000;
+        let one: Vec<f64> = (0..n)
+            .map(|k| 2.0 / (1.0 - 0.999 * (k as f64 + 0.5) / n as f64))
+            .collect();
+        let runs = 50;
+        let pooled: Vec<f64> = (0..runs).flat_map(|_| one.iter().copied()).collect();
+        let bins = mass_histogram(&pooled, 1.0, 4, runs);
+        let fit = fit_power_law_counted(&bins, 2.0, 5.0, runs).unwrap();
+        let first = bins.iter().position(|b| b.centre() >= 2.0).unwrap();
+        let after = bins[first..]
+            .iter()
+            .position(|b| (b.count as f64) < 5.0 * runs as f64)
+            .unwrap();
+        assert_eq!(fit.bins, after);
+        assert_eq!(fit.range, [bins[first].lo, bins[first + after - 1].hi]);
+        assert!(bins[first + after - 1].count >= 250 && bins[first + after].count < 250);
+        // The first bin is cut by the sample's lower end (2 in [1.78, 3.16)); β near 2 anyway.
+        assert!((fit.exponent - 2.0).abs() < 0.15, "{fit:?}");
+        // Fewer than three bins with enough fragments: no fit.
+        assert!(fit_power_law_counted(&bins, 2.0, 500.0, runs).is_none());
+    }
+
+    #[test]
+    fn bootstrap_interval_brackets_the_mean_and_repeats() {
+        let runs: Vec<f64> = (0..20).map(|k| k as f64).collect();
+        let mean = |d: &[&f64]| Some(d.iter().copied().sum::<f64>() / d.len() as f64);
+        let a = bootstrap_interval(&runs, 2000, 7, mean).unwrap();
+        assert_eq!(a, bootstrap_interval(&runs, 2000, 7, mean).unwrap());
+        // The mean of 20 values 0..19 (sd 5.92): its standard error 1.32, 95% about ±2.6.
+        assert!(a[0] < 9.5 && a[1] > 9.5, "{a:?}");
+        assert!((a[1] - a[0] - 2.0 * 1.96 * 5.77 / 20f64.sqrt()).abs() < 0.6, "{a:?}");
+        assert!(bootstrap_interval(&runs, 100, 1, |_| None).is_none());
     }
 
     #[test]

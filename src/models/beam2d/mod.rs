@@ -31,7 +31,7 @@ use crate::integrate::{Gear5, kick_dofs, kick_drift_dofs};
 use crate::output::vtk_polygons::{beams_vtu, polygons_vtu};
 use crate::probe::Series;
 use crate::probe::fragments::{
-    PowerLawFit, components, fit_power_law, mass_histogram, sum_by_component,
+    PowerLawFit, bootstrap_interval, components, mass_histogram, sum_by_component,
 };
 use crate::run::{Built, Clock, Model, RunInfo, Runner};
 use crate::sample::lattice2d::{
@@ -282,17 +282,8 @@ impl Beam2d {
     /// The power-law fit of the mass histogram of fragments of two or more polygons (single
     /// polygons are left out, as in the paper's Fig. 11).
     pub fn power_law(&self) -> Option<PowerLawFit> {
-        let (_, masses, sizes) = self.fragment_masses();
-        let multi: Vec<f64> = masses
-            .iter()
-            .zip(&sizes)
-            .filter(|(_, s)| **s >= 2)
-            .map(|(m, _)| *m)
-            .collect();
-        let f = &self.cfg.fragments;
-        let unit = self.mean_polygon_mass;
-        let bins = mass_histogram(&multi, unit, f.bins_per_decade, 1);
-        fit_power_law(&bins, f.fit_range[0] * unit, f.fit_range[1] * unit)
+        let masses = self.multi_polygon_fragment_masses();
+        self.cfg.fragments.fit(&masses, self.mean_polygon_mass, 1)
     }
 
     /// Masses (kg) of the fragments of two or more polygons: what the histogram is made of.
@@ -330,13 +321,11 @@ impl Beam2d {
         m.insert("fragments".into(), masses.len().into());
         let fit = self.power_law();
         m.insert("beta".into(), json!(fit.map(|f| f.exponent)));
-        let f = &self.cfg.fragments;
-        let unit = self.mean_polygon_mass;
+        m.insert("beta_fit_range".into(), json!(fit.map(|f| f.range)));
         m.insert(
-            "beta_fit_range".into(),
-            json!([f.fit_range[0] * unit, f.fit_range[1] * unit]),
+            "beta_fit_range_polygon_masses".into(),
+            json!(fit.map(|f| f.range.map(|x| x / self.mean_polygon_mass))),
         );
-        m.insert("beta_fit_range_polygon_masses".into(), json!(f.fit_range));
         m.insert("beta_fit_bins".into(), json!(fit.map(|f| f.bins)));
         m.insert("beta_r_squared".into(), json!(fit.map(|f| f.r_squared)));
         m.insert("largest_fragment_fraction".into(), (largest / total).into());
@@ -414,7 +403,7 @@ impl Beam2d {
 
 /// The power law fitted to the fragment mass histogram averaged over several runs of one
 /// scene (different seeds): the fragments of two or more polygons of all runs, binned in units
-/// of the runs' mean polygon mass, per run; fitted over the scene's `fragments.fit_range`.
+/// of the runs' mean polygon mass, per run; fitted by the first run's `fragments` rule.
 pub fn averaged_power_law(runs: &[&Beam2dRun]) -> Option<PowerLawFit> {
     let first = runs.first()?;
     let unit = runs.iter().map(|r| r.mean_polygon_mass).sum::<f64>() / runs.len() as f64;
@@ -422,9 +411,15 @@ pub fn averaged_power_law(runs: &[&Beam2dRun]) -> Option<PowerLawFit> {
         .iter()
         .flat_map(|r| r.multi_polygon_fragment_masses())
         .collect();
-    let f = &first.cfg.fragments;
-    let bins = mass_histogram(&masses, unit, f.bins_per_decade, runs.len());
-    fit_power_law(&bins, f.fit_range[0] * unit, f.fit_range[1] * unit)
+    first.cfg.fragments.fit(&masses, unit, runs.len())
+}
+
+/// β's 95% interval over the seeds of [`averaged_power_law`]: 2000 bootstrap resamples of the
+/// runs, each fitted by the same rule (docs/validation.md, "How β is fitted").
+pub fn averaged_power_law_interval(runs: &[&Beam2dRun]) -> Option<[f64; 2]> {
+    bootstrap_interval(runs, 2000, 20, |draw| {
+        averaged_power_law(&draw.iter().map(|r| **r).collect::<Vec<_>>()).map(|f| f.exponent)
+    })
 }
 
 impl Model for Beam2d {

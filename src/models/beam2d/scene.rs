@@ -4,6 +4,7 @@
 use serde::Deserialize;
 
 use crate::error::Result;
+use crate::probe::fragments::{PowerLawFit, fit_power_law, fit_power_law_counted, mass_histogram};
 use crate::sample::lattice2d::Outline;
 use crate::scene::validate::{Range, check, require};
 use crate::scene::{EffectKind, NeighborSpec, Scene};
@@ -104,20 +105,32 @@ pub struct LoadingSpec {
     pub end_time: Option<f64>,
 }
 
-/// How fragment masses are binned and where the power law F(m) ~ m^-β is fitted.
+/// How fragment masses are binned and where the power law F(m) ~ m^-β is fitted
+/// (docs/validation.md, "How β is fitted").
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct FragmentSpec {
-    /// The fit range [lo, hi] in mean polygon masses.
-    #[serde(default = "default_fit_range")]
-    pub fit_range: [f64; 2],
+    /// A fixed fit range [lo, hi] in mean polygon masses; absent: the counted rule below.
+    #[serde(default)]
+    pub fit_range: Option<[f64; 2]>,
+    /// The counted rule: the fit starts at the first bin whose centre is at least this many
+    /// mean polygon masses ...
+    #[serde(default = "default_fit_from")]
+    pub fit_from: f64,
+    /// ... and ends before the first bin after it with fewer fragments than this per run.
+    #[serde(default = "default_min_per_bin")]
+    pub min_per_bin: f64,
     /// Logarithmic bins per decade of mass.
     #[serde(default = "default_bins_per_decade")]
     pub bins_per_decade: u32,
 }
 
-fn default_fit_range() -> [f64; 2] {
-    [2.0, 20.0]
+fn default_fit_from() -> f64 {
+    2.0
+}
+
+fn default_min_per_bin() -> f64 {
+    5.0
 }
 
 fn default_bins_per_decade() -> u32 {
@@ -127,8 +140,22 @@ fn default_bins_per_decade() -> u32 {
 impl Default for FragmentSpec {
     fn default() -> Self {
         FragmentSpec {
-            fit_range: default_fit_range(),
+            fit_range: None,
+            fit_from: default_fit_from(),
+            min_per_bin: default_min_per_bin(),
             bins_per_decade: default_bins_per_decade(),
+        }
+    }
+}
+
+impl FragmentSpec {
+    /// The power law fitted to the fragment `masses` (kg) of `runs` runs pooled, binned in
+    /// units of `unit` (the mean polygon mass).
+    pub fn fit(&self, masses: &[f64], unit: f64, runs: usize) -> Option<PowerLawFit> {
+        let bins = mass_histogram(masses, unit, self.bins_per_decade, runs);
+        match self.fit_range {
+            Some([lo, hi]) => fit_power_law(&bins, lo * unit, hi * unit),
+            None => fit_power_law_counted(&bins, self.fit_from * unit, self.min_per_bin, runs),
         }
     }
 }
@@ -167,20 +194,35 @@ pub fn validate(s: &Scene, b: &Beam2dScene) -> Result<()> {
         check(s, "neighbor.skin", skin, Range::POSITIVE, "m")?;
     }
     let f = &b.fragments;
-    let [lo, hi] = f.fit_range;
+    if let Some([lo, hi]) = f.fit_range {
+        check(
+            s,
+            "fragments.fit_range",
+            lo,
+            Range::POSITIVE,
+            "mean polygon masses",
+        )?;
+        check(
+            s,
+            "fragments.fit_range",
+            hi,
+            Range::open(lo, f64::INFINITY),
+            "mean polygon masses (the upper end must exceed the lower)",
+        )?;
+    }
     check(
         s,
-        "fragments.fit_range",
-        lo,
+        "fragments.fit_from",
+        f.fit_from,
         Range::POSITIVE,
         "mean polygon masses",
     )?;
     check(
         s,
-        "fragments.fit_range",
-        hi,
-        Range::open(lo, f64::INFINITY),
-        "mean polygon masses (the upper end must exceed the lower)",
+        "fragments.min_per_bin",
+        f.min_per_bin,
+        Range::POSITIVE,
+        "fragments per run",
     )?;
     if f.bins_per_decade == 0 {
         return Err(s.key_error(
