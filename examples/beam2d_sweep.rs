@@ -259,7 +259,7 @@ fn plot_beta(points: &[Point]) -> Plot {
                 .margin(10)
                 .x_label_area_size(35)
                 .y_label_area_size(45)
-                .build_cartesian_2d(xr.clone(), 1.0..3.2)?;
+                .build_cartesian_2d(xr.clone(), 1.0..4.0)?;
             chart.configure_mesh().x_desc(xdesc).y_desc("beta").draw()?;
             chart
                 .draw_series(std::iter::once(Rectangle::new(
