@@ -344,7 +344,16 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
             .iter()
             .filter_map(|r| r.power_law().map(|f| f.exponent))
             .collect();
-        let mean = per_seed.iter().sum::<f64>() / per_seed.len().max(1) as f64;
+        let mean = if per_seed.is_empty() {
+            "-".to_string()
+        } else {
+            format!(
+                "{:.3} ({} of {})",
+                per_seed.iter().sum::<f64>() / per_seed.len() as f64,
+                per_seed.len(),
+                runs.len()
+            )
+        };
         let frags = runs.iter().map(|r| r.fragments().1).sum::<usize>() as f64 / runs.len() as f64;
         let largest = runs
             .iter()
@@ -352,7 +361,7 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
             .sum::<f64>()
             / runs.len() as f64;
         scan.push_str(&format!(
-            "| {stem} | {gamma} | {} | {mean:.3} | {frags:.0} | {largest:.3} |\n",
+            "| {stem} | {gamma} | {} | {mean} | {frags:.0} | {largest:.3} |\n",
             fit.map_or("-".into(), |f| format!("{:.3}", f.exponent))
         ));
         by_damping.push(runs);
