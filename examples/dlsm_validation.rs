@@ -149,6 +149,8 @@ fn main() {
                             "rotation_turns",
                             "max_energy_ratio",
                             "downslope_distance",
+                            "downslope_sizes",
+                            "bounces",
                             "wall_seconds",
                         ],
                     ),
@@ -166,6 +168,23 @@ fn main() {
                             "lattice strain".into(),
                             columns(&r, "time", "strain_energy"),
                         ),
+                    ],
+                );
+                plot(
+                    "dlsm_rolling_ball_path.svg",
+                    "Rolling ball: the centre's height above the ground and distance down the slope (m)",
+                    "time (s)",
+                    "m",
+                    &[
+                        ("height".into(), columns(&r, "time", "height")),
+                        (
+                            "down the slope / 10".into(),
+                            columns(&r, "time", "downslope_distance")
+                                .into_iter()
+                                .map(|(t, d)| (t, d / 10.0))
+                                .collect(),
+                        ),
+                        ("turns".into(), columns(&r, "time", "rotation_turns")),
                     ],
                 );
             }

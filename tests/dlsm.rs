@@ -103,25 +103,28 @@ fn fabric_of_the_face_normals_becomes_isotropic_as_the_noise_rises() {
     assert!(packing < 0.05, "packing {packing}");
 }
 
+/// Section 8.1 as the paper ran it: about 2000 elements, 3 s (53,612 steps of 56 µs against its
+/// 50,000 of 60 µs). The paper: "the ball has bounced 4 times, has translated about 4 times its
+/// diameter and has rotated about one time"; the issue's checks: bounces within ±1, distance
+/// within 25%. (The radius, which the paper does not give, comes from that distance:
+/// scenes/rolling_ball.toml.)
 #[test]
-fn rolling_ball_stays_stable_keeps_its_energy_and_rolls_down() {
-    // 50,000 steps of a 300-element ball (the paper's 2000 in docs/validation.md).
-    let mut run = DlsmRun::new(
-        scene(
-            "scenes/rolling_ball.toml",
-            &["sample.elements=300", "loading.end_time=10"],
-        ),
-        1,
-        &mut |_| {},
-    )
-    .unwrap();
-    run.advance(50_000).expect("50,000 steps without a NaN");
-    assert_eq!(run.step(), 50_000);
+fn rolling_ball_bounces_rolls_and_turns_as_in_the_paper() {
+    let mut run = DlsmRun::new(scene("scenes/rolling_ball.toml", &[]), 2, &mut |_| {}).unwrap();
+    while !run.finished() {
+        run.advance(10_000).expect("3 s without a NaN or a growing mode");
+    }
     let s = run.summary();
+    eprintln!("{s}");
+    assert!(get(&s, "steps") > 50_000.0, "{s}");
     let ratio = get(&s, "max_energy_ratio");
     assert!(ratio <= 1.01, "energy rose to {ratio} of its initial value");
-    assert!(get(&s, "downslope_distance") > 0.1, "{s}");
-    assert!(get(&s, "rotation_turns") > 0.1, "{s}");
+    let bounces = get(&s, "bounces");
+    assert!((bounces - 4.0).abs() <= 1.0, "{bounces} bounces");
+    let diameters = get(&s, "downslope_sizes");
+    assert!((diameters / 4.0 - 1.0).abs() <= 0.25, "{diameters} diameters");
+    let turns = get(&s, "rotation_turns");
+    assert!(turns > 0.5 && turns < 1.5, "{turns} turns");
 }
 
 #[test]

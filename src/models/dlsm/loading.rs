@@ -114,6 +114,9 @@ pub struct Drop {
     pub last_spin: f64,
     pub last_time: f64,
     pub centre0: Vec3,
+    /// The body's extent across the ground at the start (m): a ball's diameter.
+    #[serde(default)]
+    pub size: f64,
 }
 
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -411,6 +414,11 @@ impl DlsmLoading {
     }
 
     /// The loading's results for summary.json.
+    ///
+    /// `bounces` (drop): how often the body left the ground after touching it, i.e. output rows
+    /// with no ground contact after a row with some; `downslope_sizes`: the distance travelled
+    /// down the slope in units of the body's extent across the ground at the start (a ball's
+    /// diameter).
     pub fn summarize(&self, series: &Series, dt_row: f64, out: &mut Map<String, Value>) {
         match self {
             DlsmLoading::Tension(l) => tension_summary(l, series, out),
@@ -441,10 +449,14 @@ impl DlsmLoading {
                         out.insert("max_energy_ratio".into(), (top / e0).into());
                         out.insert("initial_energy".into(), e0.into());
                     }
-                    out.insert(
-                        "downslope_distance".into(),
-                        down.last().copied().unwrap_or(0.0).into(),
-                    );
+                    let distance = down.last().copied().unwrap_or(0.0);
+                    out.insert("downslope_distance".into(), distance.into());
+                    if d.size > 0.0 {
+                        out.insert("downslope_sizes".into(), (distance / d.size).into());
+                    }
+                }
+                if let Some(contacts) = series.column("ground_contacts") {
+                    out.insert("bounces".into(), take_offs(&contacts).into());
                 }
                 out.insert("rotation_turns".into(), d.turns.into());
             }
@@ -585,6 +597,14 @@ fn brazilian_summary(l: &Brazilian, series: &Series, out: &mut Map<String, Value
     );
 }
 
+/// Take-offs in a series of contact counts: rows with none that follow a row with some.
+fn take_offs(contacts: &[f64]) -> usize {
+    contacts
+        .windows(2)
+        .filter(|w| w[0] > 0.0 && w[1] == 0.0)
+        .count()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -595,6 +615,14 @@ mod tests {
         assert!((ramp_factor(0.5, 1.0) - 0.5).abs() < 1e-15);
         assert_eq!(ramp_factor(2.0, 1.0), 1.0);
         assert_eq!(ramp_factor(0.3, 0.0), 1.0);
+    }
+
+    #[test]
+    fn take_offs_count_rows_leaving_the_ground() {
+        // In the air, lands, leaves, chatters down to none for one row, rests.
+        assert_eq!(take_offs(&[0.0, 0.0, 3.0, 5.0, 0.0, 0.0, 2.0, 0.0, 4.0, 4.0]), 2);
+        assert_eq!(take_offs(&[]), 0);
+        assert_eq!(take_offs(&[0.0, 0.0]), 0);
     }
 
     #[test]

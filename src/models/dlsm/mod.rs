@@ -803,11 +803,13 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             let angle = l.ground_angle_degrees.unwrap_or(0.0).to_radians();
             let normal = Vec3::new(angle.sin(), 0.0, angle.cos());
             let downslope = Vec3::new(angle.cos(), 0.0, -angle.sin());
-            let mut lowest = f64::INFINITY;
+            let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
             for (i, shape) in s.shapes.iter().enumerate() {
                 let r = s.bodies.orientation[i];
                 for v in &shape.vertices {
-                    lowest = lowest.min(normal.dot(&(s.bodies.pos[i] + r * v)));
+                    let h = normal.dot(&(s.bodies.pos[i] + r * v));
+                    lowest = lowest.min(h);
+                    highest = highest.max(h);
                 }
             }
             let ground_point = normal * (lowest - l.drop_height.unwrap_or(0.0));
@@ -836,6 +838,7 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
                 last_spin: 0.0,
                 last_time: 0.0,
                 centre0: centre,
+                size: highest - lowest,
             })
         }
         LoadingKind::None => DlsmLoading::Free {
