@@ -54,10 +54,7 @@ fn run(file: &str, seed: u64, strain: f64, bending: f64) -> Beam2dRun {
     let sets = [
         format!("seed={seed}"),
         format!("material.beam_strain_threshold={}", strain / 100.0),
-        format!(
-            "material.beam_bending_threshold={}",
-            bending.to_radians()
-        ),
+        format!("material.beam_bending_threshold={}", bending.to_radians()),
     ];
     let scene = Scene::load(&root().join("scenes").join(file), &sets).expect("scene");
     let mut r = Beam2dRun::new(scene, 1, &mut |_| {}).expect("run");
@@ -234,7 +231,15 @@ fn plot_beta(points: &[Point]) -> Plot {
     let area = SVGBackend::new(&file, (1100, 800)).into_drawing_area();
     area.fill(&WHITE)?;
     let panels = area.split_evenly((2, 2));
-    let colours = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK, RGBColor(200, 120, 0)];
+    let colours = [
+        BLUE,
+        RED,
+        GREEN,
+        MAGENTA,
+        CYAN,
+        BLACK,
+        RGBColor(200, 120, 0),
+    ];
     for (row, stem) in ["explosion", "impact"].into_iter().enumerate() {
         for col in 0..2 {
             let panel = &panels[row * 2 + col];
@@ -268,7 +273,10 @@ fn plot_beta(points: &[Point]) -> Plot {
                 )))?
                 .label("paper: 2.0 +- 0.05")
                 .legend(|(x, y)| {
-                    Rectangle::new([(x, y - 4), (x + 16, y + 4)], RGBColor(180, 180, 180).filled())
+                    Rectangle::new(
+                        [(x, y - 4), (x + 16, y + 4)],
+                        RGBColor(180, 180, 180).filled(),
+                    )
                 });
             let curves: Vec<f64> = if by_strain {
                 BENDING.to_vec()
@@ -296,8 +304,7 @@ fn plot_beta(points: &[Point]) -> Plot {
                     .iter()
                     .filter_map(|p| {
                         let x = if by_strain { p.strain } else { p.bending };
-                        p.beta
-                            .map(|b| (x, b, p.interval.unwrap_or([b, b])))
+                        p.beta.map(|b| (x, b, p.interval.unwrap_or([b, b])))
                     })
                     .collect();
                 let label = if by_strain {
@@ -315,7 +322,10 @@ fn plot_beta(points: &[Point]) -> Plot {
                 chart.draw_series(xy.iter().map(|p| {
                     PathElement::new(vec![(p.0, p.2[0]), (p.0, p.2[1])], colour.stroke_width(1))
                 }))?;
-                chart.draw_series(xy.iter().map(|p| Circle::new((p.0, p.1), 3, colour.filled())))?;
+                chart.draw_series(
+                    xy.iter()
+                        .map(|p| Circle::new((p.0, p.1), 3, colour.filled())),
+                )?;
             }
             chart
                 .configure_series_labels()
@@ -337,7 +347,15 @@ fn plot_histograms(points: &[Point]) -> Plot {
     let area = SVGBackend::new(&file, (1100, 440)).into_drawing_area();
     area.fill(&WHITE)?;
     let panels = area.split_evenly((1, 2));
-    let colours = [BLUE, RED, GREEN, MAGENTA, CYAN, BLACK, RGBColor(200, 120, 0)];
+    let colours = [
+        BLUE,
+        RED,
+        GREEN,
+        MAGENTA,
+        CYAN,
+        BLACK,
+        RGBColor(200, 120, 0),
+    ];
     for (col, panel) in panels.iter().enumerate() {
         let mut chosen: Vec<&Point> = points
             .iter()

@@ -219,10 +219,7 @@ fn beta_falls_as_the_bending_threshold_rises_and_the_disc_shatters_at_one_degree
                         "explosion_disc.toml",
                         &[
                             format!("seed={seed}"),
-                            format!(
-                                "material.beam_bending_threshold={}",
-                                degrees.to_radians()
-                            ),
+                            format!("material.beam_bending_threshold={}", degrees.to_radians()),
                         ],
                     ))
                 }) as Box<dyn FnOnce() -> Beam2dRun + Send>
@@ -486,7 +483,12 @@ fn explosion_wave_front_runs_at_the_lattice_compression_wave_speed() {
     let mut run = Beam2dRun::new(
         scene(
             "explosion_disc.toml",
-            &sets(&[no_breaking, "loading.energy=0.005", "loading.end_time=0.001", "loading.quiet_steps=100000"]),
+            &sets(&[
+                no_breaking,
+                "loading.energy=0.005",
+                "loading.end_time=0.001",
+                "loading.quiet_steps=100000",
+            ]),
         ),
         1,
         &mut |_| {},
@@ -495,7 +497,9 @@ fn explosion_wave_front_runs_at_the_lattice_compression_wave_speed() {
     let p = &run.polygons;
     let n = p.len();
     let total: f64 = p.mass.iter().sum();
-    let centre = (0..n).fold(nalgebra::Vector2::zeros(), |a, i| a + p.centre(i) * p.mass[i]) / total;
+    let centre = (0..n).fold(nalgebra::Vector2::zeros(), |a, i| {
+        a + p.centre(i) * p.mass[i]
+    }) / total;
     let radius_of = |i: usize| (p.centre(i) - centre).norm();
     let disc_radius = (0..n).map(radius_of).fold(0.0, f64::max);
     let radius: Vec<f64> = (0..n).map(radius_of).collect();
@@ -503,14 +507,17 @@ fn explosion_wave_front_runs_at_the_lattice_compression_wave_speed() {
         .map(|i| p.velocity(i).norm())
         .filter(|&v| v > 0.0)
         .collect();
-    assert!(!kicked.is_empty(), "the explosion kicked no polygon at the start");
+    assert!(
+        !kicked.is_empty(),
+        "the explosion kicked no polygon at the start"
+    );
     let threshold = 0.01 * kicked.iter().sum::<f64>() / kicked.len() as f64;
     let mut arrival = vec![f64::NAN; n];
     while !run.finished() && run.clock.time < 0.8 * disc_radius / c * 1.5 {
         run.advance(2).unwrap();
-        for i in 0..n {
-            if arrival[i].is_nan() && run.polygons.velocity(i).norm() > threshold {
-                arrival[i] = run.clock.time;
+        for (i, a) in arrival.iter_mut().enumerate() {
+            if a.is_nan() && run.polygons.velocity(i).norm() > threshold {
+                *a = run.clock.time;
             }
         }
     }
@@ -518,12 +525,18 @@ fn explosion_wave_front_runs_at_the_lattice_compression_wave_speed() {
         .filter(|&i| radius[i] >= 0.25 * disc_radius && radius[i] <= 0.75 * disc_radius)
         .map(|i| (arrival[i], radius[i]))
         .collect();
-    assert!(pts.iter().all(|p| p.0.is_finite()), "the wave did not reach every polygon");
+    assert!(
+        pts.iter().all(|p| p.0.is_finite()),
+        "the wave did not reach every polygon"
+    );
     let speed = fractum::probe::fit::least_squares_slope(&pts);
     eprintln!(
         "confined modulus {modulus:.4e} Pa -> c = {c:.1} m/s; front {speed:.1} m/s ({:+.2}%), {} polygons, threshold {threshold:.3e} m/s",
         100.0 * (speed / c - 1.0),
         pts.len()
     );
-    assert!((speed / c - 1.0).abs() < 0.05, "front {speed} m/s against {c} m/s");
+    assert!(
+        (speed / c - 1.0).abs() < 0.05,
+        "front {speed} m/s against {c} m/s"
+    );
 }

@@ -112,7 +112,8 @@ fn fabric_of_the_face_normals_becomes_isotropic_as_the_noise_rises() {
 fn rolling_ball_bounces_rolls_and_turns_as_in_the_paper() {
     let mut run = DlsmRun::new(scene("scenes/rolling_ball.toml", &[]), 2, &mut |_| {}).unwrap();
     while !run.finished() {
-        run.advance(10_000).expect("3 s without a NaN or a growing mode");
+        run.advance(10_000)
+            .expect("3 s without a NaN or a growing mode");
     }
     let s = run.summary();
     eprintln!("{s}");
@@ -122,7 +123,10 @@ fn rolling_ball_bounces_rolls_and_turns_as_in_the_paper() {
     let bounces = get(&s, "bounces");
     assert!((bounces - 4.0).abs() <= 1.0, "{bounces} bounces");
     let diameters = get(&s, "downslope_sizes");
-    assert!((diameters / 4.0 - 1.0).abs() <= 0.25, "{diameters} diameters");
+    assert!(
+        (diameters / 4.0 - 1.0).abs() <= 0.25,
+        "{diameters} diameters"
+    );
     let turns = get(&s, "rotation_turns");
     assert!(turns > 0.5 && turns < 1.5, "{turns} turns");
 }

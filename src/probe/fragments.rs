@@ -285,7 +285,10 @@ mod tests {
         assert_eq!(a, bootstrap_interval(&runs, 2000, 7, mean).unwrap());
         // The mean of 20 values 0..19 (sd 5.92): its standard error 1.32, 95% about ±2.6.
         assert!(a[0] < 9.5 && a[1] > 9.5, "{a:?}");
-        assert!((a[1] - a[0] - 2.0 * 1.96 * 5.77 / 20f64.sqrt()).abs() < 0.6, "{a:?}");
+        assert!(
+            (a[1] - a[0] - 2.0 * 1.96 * 5.77 / 20f64.sqrt()).abs() < 0.6,
+            "{a:?}"
+        );
         assert!(bootstrap_interval(&runs, 100, 1, |_| None).is_none());
     }
 

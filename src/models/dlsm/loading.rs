@@ -620,7 +620,10 @@ mod tests {
     #[test]
     fn take_offs_count_rows_leaving_the_ground() {
         // In the air, lands, leaves, chatters down to none for one row, rests.
-        assert_eq!(take_offs(&[0.0, 0.0, 3.0, 5.0, 0.0, 0.0, 2.0, 0.0, 4.0, 4.0]), 2);
+        assert_eq!(
+            take_offs(&[0.0, 0.0, 3.0, 5.0, 0.0, 0.0, 2.0, 0.0, 4.0, 4.0]),
+            2
+        );
         assert_eq!(take_offs(&[]), 0);
         assert_eq!(take_offs(&[0.0, 0.0]), 0);
     }
