@@ -571,14 +571,18 @@ impl DlsmBonds {
         n.dot(&(mat_of(&s) * n))
     }
 
-    /// Eq. 39 without its factor: the smallest `sqrt(m_ij L0 / (E S))` over the contacts,
-    /// `m_ij = m_i m_j / (m_i + m_j)` (Eq. 40).
+    /// Eq. 39 without its factor, with the stiffness a contact has in this model: the
+    /// smallest `sqrt(m_ij L0 / (M S))` over the contacts, `m_ij = m_i m_j / (m_i + m_j)`
+    /// (Eq. 40). The paper writes E; a contact's normal spring is `(λ + 2μ) S / L0` and its
+    /// shear spring about `μ S / L0`, and M = λ + 2μ, the larger of the two, is E at ν = 0,
+    /// 1.11 E at 0.2, 2.14 E at 0.4, 17 E at 0.49, 13 E at −0.95 and 67 E at −0.99.
     pub fn critical_time_step(&self, mass: &[f64]) -> f64 {
+        let modulus = self.lambda + self.two_mu;
         let mut dt = f64::INFINITY;
         for (c, p) in self.pair.iter().enumerate() {
             let (mi, mj) = (mass[p[0] as usize], mass[p[1] as usize]);
             let m = mi * mj / (mi + mj);
-            dt = dt.min((m * self.length0[c] / (self.young * self.area[c])).sqrt());
+            dt = dt.min((m * self.length0[c] / (modulus * self.area[c])).sqrt());
         }
         dt
     }
