@@ -4,7 +4,7 @@
 //! line per case to target/dlsm-validation/results.jsonl and SVG plots to docs/img/.
 //!
 //! ```sh
-//! cargo run --release --example dlsm_validation -- fabric ball failure table3 waves brazilian
+//! cargo run --release --example dlsm_validation -- fabric ball failure table3 waves brazilian platens
 //! ```
 //!
 //! Each case is a shipped scene at its full size (the tests run them smaller). Cases run in
@@ -29,21 +29,26 @@ fn repo() -> PathBuf {
 }
 
 fn run(file: &str, overrides: &[String]) -> (DlsmRun, Value) {
-    let scene = Scene::load(&repo().join(file), overrides).expect("scene");
+    try_run(file, overrides).expect("run")
+}
+
+/// As [`run`], or the sentence with which the scene was refused at build.
+fn try_run(file: &str, overrides: &[String]) -> Result<(DlsmRun, Value), String> {
+    let scene = Scene::load(&repo().join(file), overrides).map_err(|e| e.to_string())?;
     let started = std::time::Instant::now();
-    let mut run = DlsmRun::new(scene, 2, &mut |m| eprintln!("  {m}")).expect("run");
+    let mut run = DlsmRun::new(scene, 2, &mut |m| eprintln!("  {m}")).map_err(|e| e.to_string())?;
     while !run.finished() {
         if let Err(e) = run.advance(20_000) {
             // An unstable run is a result too: say where it stopped.
             let mut s = run.summary();
             s["error"] = json!(e.to_string());
-            return (run, s);
+            return Ok((run, s));
         }
         eprintln!("  step {} of {}", run.clock.step, run.clock.end_step);
     }
     let mut s = run.summary();
     s["wall_seconds"] = json!(started.elapsed().as_secs_f64());
-    (run, s)
+    Ok((run, s))
 }
 
 fn record(case: &str, value: Value) {
@@ -322,10 +327,37 @@ fn main() {
                     0.49, 0.45, 0.4, 0.3, 0.2, 0.1, 0.0, -0.1, -0.2, -0.3, -0.4, -0.5, -0.6, -0.7,
                     -0.8, -0.95, -0.99,
                 ] {
-                    let (_, s) = run(
+                    // Each row at the shipped step and at half of it: what the step does.
+                    let refused = |e: String| json!({ "refused": e });
+                    let half = try_run(
+                        "scenes/dlsm_tensile.toml",
+                        &[
+                            format!("material.poisson={nu}"),
+                            "time.safety=0.165".to_string(),
+                        ],
+                    )
+                    .map_or_else(refused, |(_, s)| s);
+                    record(
+                        &format!("table3 nu={nu} safety=0.165"),
+                        pick(
+                            &half,
+                            &[
+                                "elements",
+                                "steps",
+                                "dt",
+                                "apparent_young",
+                                "apparent_poisson",
+                                "wall_seconds",
+                                "error",
+                                "refused",
+                            ],
+                        ),
+                    );
+                    let s = try_run(
                         "scenes/dlsm_tensile.toml",
                         &[format!("material.poisson={nu}")],
-                    );
+                    )
+                    .map_or_else(refused, |(_, s)| s);
                     record(
                         &format!("table3 nu={nu}"),
                         pick(
@@ -333,9 +365,12 @@ fn main() {
                             &[
                                 "elements",
                                 "steps",
+                                "dt",
                                 "apparent_young",
                                 "apparent_poisson",
                                 "wall_seconds",
+                                "error",
+                                "refused",
                             ],
                         ),
                     );
@@ -445,7 +480,107 @@ fn main() {
                     &lines,
                 );
             }
+            "platens" => {
+                // Issue 19: flat rigid platens at 3000 cells and at the paper's size.
+                let mut lines = Vec::new();
+                let mut cracks = Vec::new();
+                for elements in [3000, 20000] {
+                    let (r, s) = run(
+                        "scenes/brazilian.toml",
+                        &[
+                            format!("sample.elements={elements}"),
+                            "loading.load_by=\"flat_platens\"".to_string(),
+                        ],
+                    );
+                    record(
+                        &format!("brazilian flat platens, {elements} elements"),
+                        pick(
+                            &s,
+                            &[
+                                "elements",
+                                "steps",
+                                "dt",
+                                "peak_force",
+                                "theory_force",
+                                "force_ratio",
+                                "first_break_time",
+                                "first_break_position",
+                                "crack_start_offset",
+                                "main_crack_start_offset",
+                                "broken_contacts",
+                                "wall_seconds",
+                            ],
+                        ),
+                    );
+                    let pts = columns(&r, "diametral_strain", "force")
+                        .into_iter()
+                        .map(|(e, f)| (e * 1e3, f / 1e3))
+                        .collect();
+                    lines.push((format!("{} elements", s["elements"]), pts));
+                    cracks.push((
+                        format!("{} elements", s["elements"]),
+                        r.break_log
+                            .iter()
+                            .map(|(_, p)| (p.x, p.y))
+                            .collect::<Vec<_>>(),
+                    ));
+                }
+                plot(
+                    "dlsm_brazilian_platens.svg",
+                    "Brazilian test between flat platens (Eq. 46: 62.83 kN)",
+                    "diametral strain (1e-3, platen travel)",
+                    "force (kN)",
+                    &lines,
+                );
+                crack_map("dlsm_brazilian_platens_cracks.svg", &cracks);
+            }
             other => eprintln!("unknown case {other}"),
         }
     }
+}
+
+/// Where the contacts broke, in the disc's plane, one panel per run: the first tenth of the
+/// breaks in red, the rest in grey.
+fn crack_map(file: &str, runs: &[(String, Vec<(f64, f64)>)]) {
+    let path = repo().join("docs/img").join(file);
+    let area = SVGBackend::new(&path, (440 * runs.len() as u32, 460)).into_drawing_area();
+    area.fill(&WHITE).unwrap();
+    for (panel, (label, pts)) in area.split_evenly((1, runs.len())).iter().zip(runs) {
+        let mut chart = ChartBuilder::on(panel)
+            .caption(format!("{label}: broken contacts"), ("sans-serif", 16))
+            .margin(10)
+            .x_label_area_size(30)
+            .y_label_area_size(40)
+            .build_cartesian_2d(-0.105..0.105, -0.105..0.105)
+            .unwrap();
+        chart
+            .configure_mesh()
+            .x_desc("x (m)")
+            .y_desc("y (m)")
+            .draw()
+            .unwrap();
+        let circle: Vec<(f64, f64)> = (0..=200)
+            .map(|k| {
+                let a = k as f64 / 200.0 * std::f64::consts::TAU;
+                (0.1 * a.cos(), 0.1 * a.sin())
+            })
+            .collect();
+        chart.draw_series(LineSeries::new(circle, BLACK)).unwrap();
+        let first = pts.len().div_ceil(10);
+        chart
+            .draw_series(
+                pts[first..]
+                    .iter()
+                    .map(|p| Circle::new(*p, 1, RGBColor(150, 150, 150).filled())),
+            )
+            .unwrap();
+        chart
+            .draw_series(
+                pts[..first]
+                    .iter()
+                    .map(|p| Circle::new(*p, 2, RED.filled())),
+            )
+            .unwrap();
+    }
+    area.present().unwrap();
 }

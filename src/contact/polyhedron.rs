@@ -70,6 +70,9 @@ pub struct GroundContact {
     /// Elements touching and the energy of the springs in the last evaluation.
     pub contacts: usize,
     pub energy: f64,
+    /// The sum of the forces it applied to the elements in the last evaluation (N).
+    #[serde(default)]
+    pub total: Vec3,
 }
 
 impl GroundContact {
@@ -86,6 +89,7 @@ impl GroundContact {
             },
             contacts: 0,
             energy: 0.0,
+            total: Vec3::zeros(),
         }
     }
 
@@ -101,6 +105,7 @@ impl GroundContact {
         let friction = !self.history.is_empty();
         self.contacts = 0;
         self.energy = 0.0;
+        self.total = Vec3::zeros();
         for (i, shape) in shapes.iter().enumerate().take(bodies.len()) {
             let x = bodies.pos[i];
             if n.dot(&(x - self.point)) > bodies.radius[i] {
@@ -132,6 +137,7 @@ impl GroundContact {
             }
             forces.force[i] += f;
             forces.torque[i] += (deepest - x).cross(&f);
+            self.total += f;
         }
     }
 }

@@ -3,7 +3,7 @@
 use std::fmt::Write;
 
 use super::loading::arc_factor;
-use super::scene::{DlsmScene, LoadingKind};
+use super::scene::{DlsmScene, LoadBy, LoadingKind};
 use super::{DEFAULT_PHI, sample};
 use crate::error::Result;
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
@@ -101,10 +101,15 @@ pub fn explain(scene: &Scene) -> Result<String> {
             l.mode,
             l.end_time.unwrap_or(0.0)
         ),
+        LoadingKind::Brazilian if l.load_by == Some(LoadBy::FlatPlatens) => format!(
+            "Brazilian test between two rigid flat platens (frictional contacts), {} m/s per side to diametral strain {}, force read on the platens (Eq. 46)",
+            l.speed.unwrap_or(0.0),
+            l.end_strain.unwrap_or(0.0)
+        ),
         LoadingKind::Brazilian => {
             let arc = l.arc_degrees.unwrap_or(0.0);
             format!(
-                "Brazilian test, loading arc {arc} degrees (k = {:.4}, Eq. 47), {} m/s per side to diametral strain {}",
+                "Brazilian test, the elements of a loading arc of {arc} degrees driven (k = {:.4}, Eq. 47), {} m/s per side to diametral strain {}",
                 arc_factor(0.5 * arc.to_radians()),
                 l.speed.unwrap_or(0.0),
                 l.end_strain.unwrap_or(0.0)

@@ -11,9 +11,11 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::scene::VibrationMode;
+use crate::contact::polyhedron::GroundContact;
 use crate::probe::Series;
 use crate::probe::fit::least_squares_slope;
 use crate::probe::spectrum::dominant_frequency;
+use crate::shape::polyhedron::Polyhedron;
 use crate::state::{Bodies, Forces, Vec3};
 
 /// 0 → 1 over `ramp` seconds with zero slope at both ends (1 at once without a ramp): the
@@ -25,6 +27,20 @@ pub fn ramp_factor(t: f64, ramp: f64) -> f64 {
         0.0
     } else {
         0.5 * (1.0 - (std::f64::consts::PI * t / ramp).cos())
+    }
+}
+
+/// How far a speed rising by [`ramp_factor`] has carried a point by time `t`, per unit speed:
+/// the integral of the ramp (s).
+pub fn ramp_travel(t: f64, ramp: f64) -> f64 {
+    if t <= 0.0 {
+        0.0
+    } else if ramp <= 0.0 {
+        t
+    } else if t >= ramp {
+        0.5 * ramp + (t - ramp)
+    } else {
+        0.5 * (t - ramp / std::f64::consts::PI * (std::f64::consts::PI * t / ramp).sin())
     }
 }
 
@@ -96,6 +112,28 @@ pub struct Brazilian {
     pub reaction: [f64; 2],
     pub stop_fraction: f64,
     pub tensile_strength: Option<f64>,
+    /// Flat platens, top (normal −y) and bottom (normal +y), when they load the disc; empty
+    /// when the elements of the loading arcs are driven (`top` and `bottom` are then those).
+    #[serde(default)]
+    pub platens: Vec<GroundContact>,
+    /// The platens' heights (y, m) at the start, top and bottom.
+    #[serde(default)]
+    pub platen_start: [f64; 2],
+}
+
+impl Brazilian {
+    /// Whether the elements of the loading arcs are driven (rather than platens loading the
+    /// disc).
+    pub fn drives_elements(&self) -> bool {
+        self.platens.is_empty()
+    }
+
+    /// The platens' heights (y, m) at time `t`: each has moved `speed × ramp_travel` towards
+    /// the other.
+    pub fn platen_heights(&self, t: f64) -> [f64; 2] {
+        let travel = self.speed * ramp_travel(t, self.ramp_time);
+        [self.platen_start[0] - travel, self.platen_start[1] + travel]
+    }
 }
 
 /// A body thrown onto an inclined ground plane (Section 8.1).
@@ -179,7 +217,7 @@ impl DlsmLoading {
                     bodies.omega[i as usize] = Vec3::zeros();
                 }
             }
-            DlsmLoading::Brazilian(l) => {
+            DlsmLoading::Brazilian(l) if l.drives_elements() => {
                 let v = l.speed * ramp_factor(t, l.ramp_time);
                 for (set, speed) in [(&l.top, -v), (&l.bottom, v)] {
                     for &i in set {
@@ -188,7 +226,36 @@ impl DlsmLoading {
                     }
                 }
             }
-            DlsmLoading::Free { .. } | DlsmLoading::Drop(_) => {}
+            DlsmLoading::Free { .. } | DlsmLoading::Drop(_) | DlsmLoading::Brazilian(_) => {}
+        }
+    }
+
+    /// The platens of a Brazilian test push the elements they touch (positions at time `t`);
+    /// their reactions are the compressive forces they carry.
+    pub fn press(
+        &mut self,
+        bodies: &Bodies,
+        shapes: &[Polyhedron],
+        forces: &mut Forces,
+        t: f64,
+        dt: f64,
+    ) {
+        let DlsmLoading::Brazilian(l) = self else {
+            return;
+        };
+        if l.platens.is_empty() {
+            return;
+        }
+        let heights = l.platen_heights(t);
+        for (k, platen) in l.platens.iter_mut().enumerate() {
+            platen.point.y = heights[k];
+            platen.accumulate(bodies, shapes, forces, dt);
+            // The top platen pushes the elements down (−y), the bottom one up.
+            l.reaction[k] = if k == 0 {
+                -platen.total.y
+            } else {
+                platen.total.y
+            };
         }
     }
 
@@ -216,7 +283,7 @@ impl DlsmLoading {
                     forces.torque[i as usize] = Vec3::zeros();
                 }
             }
-            DlsmLoading::Brazilian(l) => {
+            DlsmLoading::Brazilian(l) if l.drives_elements() => {
                 let mut r = [0.0; 2];
                 for (k, set, sign) in [(0usize, &l.top, 1.0), (1, &l.bottom, -1.0)] {
                     for &i in set {
@@ -227,7 +294,7 @@ impl DlsmLoading {
                 }
                 l.reaction = r;
             }
-            DlsmLoading::Free { .. } | DlsmLoading::Drop(_) => {}
+            DlsmLoading::Free { .. } | DlsmLoading::Drop(_) | DlsmLoading::Brazilian(_) => {}
         }
     }
 
@@ -336,7 +403,13 @@ impl DlsmLoading {
                 vec![r.time, signal, ke, r.strain_energy, ke + r.strain_energy]
             }
             DlsmLoading::Brazilian(l) => {
-                let gap = mean_of(&l.top, |i| b.pos[i].y) - mean_of(&l.bottom, |i| b.pos[i].y);
+                let gap = if l.platens.is_empty() {
+                    // The driven arcs' mean heights.
+                    mean_of(&l.top, |i| b.pos[i].y) - mean_of(&l.bottom, |i| b.pos[i].y)
+                } else {
+                    let [top, bottom] = l.platen_heights(r.time);
+                    top - bottom
+                };
                 let force = 0.5 * (l.reaction[0] + l.reaction[1]);
                 vec![
                     r.time,
@@ -494,6 +567,10 @@ impl DlsmLoading {
                 v.end_time,
                 v.frequency_theory
             ),
+            DlsmLoading::Brazilian(l) if !l.platens.is_empty() => format!(
+                "Brazilian test between two rigid flat platens (frictional contacts of stiffness {:.3e} N/m, friction {}) moving towards each other along y at {} m/s each, speed rising over {:e} s, to diametral strain {}; the force is read on the platens",
+                l.platens[0].stiffness, l.platens[0].friction, l.speed, l.ramp_time, l.end_strain
+            ),
             DlsmLoading::Brazilian(l) => format!(
                 "Brazilian test: {} top and {} bottom elements (loading arc 2 alpha = {:.1} degrees) move towards each other along y at {} m/s each, speed rising over {:e} s, to diametral strain {}",
                 l.top.len(),
@@ -594,6 +671,15 @@ fn brazilian_summary(l: &Brazilian, series: &Series, out: &mut Map<String, Value
     out.insert(
         "loaded_elements".into(),
         (l.top.len() + l.bottom.len()).into(),
+    );
+    out.insert(
+        "load_by".into(),
+        if l.platens.is_empty() {
+            "elements"
+        } else {
+            "flat_platens"
+        }
+        .into(),
     );
 }
 

@@ -35,7 +35,7 @@ use crate::shape::polyhedron::Polyhedron;
 use crate::state::{Bodies, Forces, Vec3};
 use loading::{Brazilian, DlsmLoading, Drop, FreeVibration, RowInputs, Tension};
 use sample::{DlsmSample, DlsmSampleInfo};
-use scene::{DlsmScene, LoadingKind, VibrationMode};
+use scene::{DlsmScene, LoadBy, LoadingKind, VibrationMode};
 
 pub use explain::explain;
 
@@ -172,7 +172,11 @@ impl Dlsm {
         // Eq. 39 bounds the translational springs; the rotational ones (K S, Eq. 31) are
         // stiffer for their inertia, so their counterpart bounds the step too.
         let mut dt_limit = dt_critical.min(dt_rotational);
-        if let Some(g) = &ground {
+        let platens = match &loading {
+            DlsmLoading::Brazilian(l) => l.platens.iter().collect(),
+            _ => Vec::new(),
+        };
+        for g in ground.iter().chain(platens) {
             let lightest = bodies.mass.iter().copied().fold(f64::INFINITY, f64::min);
             dt_limit = dt_limit.min((lightest / g.stiffness).sqrt());
         }
@@ -272,9 +276,9 @@ impl Dlsm {
         ))
     }
 
-    /// Forces and torques at the current positions: bonds, effects, reactions. `clock` is
-    /// where the run is (breaks are logged at its step).
-    fn evaluate_forces(&mut self, clock: &Clock) {
+    /// Forces and torques at the current positions, which are those of time `at`: bonds,
+    /// effects, platens, reactions. `clock` is where the run is (breaks are logged at its step).
+    fn evaluate_forces(&mut self, clock: &Clock, at: f64) {
         let strength = self.tensile_strength;
         let st = &mut self.state;
         let broke = self.bonds.evaluate(&st.bodies, &mut st.forces, strength);
@@ -293,6 +297,8 @@ impl Dlsm {
                 *f += g * m;
             }
         }
+        st.loading
+            .press(&st.bodies, &self.shapes, &mut st.forces, at, clock.dt);
         st.loading.constrain(&mut st.forces);
     }
 
@@ -422,7 +428,7 @@ impl Model for Dlsm {
             end_step: end,
         };
         model.state.loading.prescribe(&mut model.state.bodies, 0.0);
-        model.evaluate_forces(&start);
+        model.evaluate_forces(&start, 0.0);
         Ok(Built {
             model,
             dt,
@@ -473,7 +479,7 @@ impl Model for Dlsm {
         self.integrator.kick_drift(&mut st.bodies, &st.forces, dt);
         // Breaks are logged at the step being taken, at its start time.
         let during = Clock { dt, ..*clock };
-        self.evaluate_forces(&during);
+        self.evaluate_forces(&during, clock.time + dt);
         let st = &mut self.state;
         self.integrator.kick(&mut st.bodies, &st.forces, dt);
     }
@@ -782,6 +788,49 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             let speed = l.speed.expect("validated");
             let end = l.end_strain.expect("validated");
             let gap = mean(&top, 1) - mean(&bottom, 1);
+            // Flat platens: planes resting on the highest and lowest vertex of the disc,
+            // their contacts as stiff as a cohesive contact of a mean element (E S / L0 with
+            // S = L0² = the element size squared) unless material.contact_stiffness says
+            // otherwise, with the material's friction.
+            let (platens, platen_start) = if l.load_by == Some(LoadBy::FlatPlatens) {
+                let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
+                for (i, shape) in s.shapes.iter().enumerate() {
+                    let r = s.bodies.orientation[i];
+                    for v in &shape.vertices {
+                        let y = (s.bodies.pos[i] + r * v).y;
+                        lowest = lowest.min(y);
+                        highest = highest.max(y);
+                    }
+                }
+                let m = &cfg.material;
+                let k = m.contact_stiffness.unwrap_or(m.young * s.info.element_size);
+                let n = s.bodies.len();
+                let plane = |y: f64, up: f64| {
+                    GroundContact::new(
+                        Vec3::new(0.0, y, 0.0),
+                        Vec3::new(0.0, up, 0.0),
+                        k,
+                        m.friction,
+                        n,
+                    )
+                };
+                (
+                    vec![plane(highest, -1.0), plane(lowest, 1.0)],
+                    [highest, lowest],
+                )
+            } else {
+                (Vec::new(), [0.0; 2])
+            };
+            let gap = if platens.is_empty() {
+                gap
+            } else {
+                platen_start[0] - platen_start[1]
+            };
+            let (top, bottom) = if platens.is_empty() {
+                (top, bottom)
+            } else {
+                (Vec::new(), Vec::new())
+            };
             DlsmLoading::Brazilian(Brazilian {
                 speed,
                 end_strain: end,
@@ -797,6 +846,8 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
                 reaction: [0.0; 2],
                 stop_fraction: stop,
                 tensile_strength: strength,
+                platens,
+                platen_start,
             })
         }
         LoadingKind::Drop => {

@@ -135,6 +135,16 @@ pub enum VibrationMode {
     Torsion,
 }
 
+/// How a Brazilian disc is loaded.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LoadBy {
+    /// Prescribed speeds on the elements of the loading arcs (the paper's Fig. 16a).
+    Elements,
+    /// Two rigid flat platens pressed onto the disc.
+    FlatPlatens,
+}
+
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct LoadingSpec {
@@ -151,6 +161,11 @@ pub struct LoadingSpec {
     pub ramp_time: Option<f64>,
     /// Loading arc 2α (degrees) of the Brazilian test; 0 loads the top and bottom elements.
     pub arc_degrees: Option<f64>,
+    /// How a Brazilian disc is loaded: "elements" (prescribed speeds on the elements of the
+    /// loading arcs, the default) or "flat_platens" (two rigid flat platens, touching the
+    /// disc's elements through frictional contacts, driven at `speed`; the force is read on
+    /// them).
+    pub load_by: Option<LoadBy>,
     /// With `fracture`: the run ends once the load has fallen below this fraction of its
     /// peak (0: never early).
     pub stop_fraction: Option<f64>,
@@ -379,6 +394,12 @@ fn validate_loading(s: &Scene, l: &LoadingSpec) -> Result<()> {
                     Range::closed(0.0, 90.0),
                     "degrees",
                 )?;
+                if a > 0.0 && l.load_by == Some(LoadBy::FlatPlatens) {
+                    return Err(s.key_error(
+                        "loading.load_by",
+                        format!("= \"flat_platens\" presses flat platens, which have no loading arc: leave loading.arc_degrees out or 0 (it is {a})"),
+                    ));
+                }
             }
         }
         LoadingKind::Drop => {
