@@ -16,7 +16,8 @@ use crate::scene::{Scene, io_reason};
 const MAGIC: &[u8; 8] = b"FRACTUM\x02";
 /// The magic of format 3 and before (unsealed).
 const OLD_MAGIC: &[u8; 8] = b"FRACTUM\x01";
-const FORMAT_VERSION: u32 = 4;
+/// 5: dlsm states gained the Brazilian platens, the drop's size and the ground's total force.
+const FORMAT_VERSION: u32 = 5;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {
