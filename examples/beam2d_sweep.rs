@@ -29,6 +29,16 @@ const SEEDS: u64 = 5;
 const STRAIN: [f64; 6] = [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]; // t_ε (%)
 const BENDING: [f64; 4] = [1.0, 2.0, 4.0, 7.0]; // t_Θ (degrees)
 const BENDING_LINE: [f64; 3] = [3.0, 5.0, 6.0]; // extra t_Θ at t_ε = 3%
+/// One colour per curve.
+const COLOURS: [RGBColor; 7] = [
+    BLUE,
+    RED,
+    GREEN,
+    MAGENTA,
+    CYAN,
+    BLACK,
+    RGBColor(200, 120, 0),
+];
 
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -231,15 +241,6 @@ fn plot_beta(points: &[Point]) -> Plot {
     let area = SVGBackend::new(&file, (1100, 800)).into_drawing_area();
     area.fill(&WHITE)?;
     let panels = area.split_evenly((2, 2));
-    let colours = [
-        BLUE,
-        RED,
-        GREEN,
-        MAGENTA,
-        CYAN,
-        BLACK,
-        RGBColor(200, 120, 0),
-    ];
     for (row, stem) in ["explosion", "impact"].into_iter().enumerate() {
         for col in 0..2 {
             let panel = &panels[row * 2 + col];
@@ -299,7 +300,7 @@ fn plot_beta(points: &[Point]) -> Plot {
                     let key = |p: &Point| if by_strain { p.strain } else { p.bending };
                     key(a).total_cmp(&key(b))
                 });
-                let colour = colours[c % colours.len()];
+                let colour = COLOURS[c % COLOURS.len()];
                 let xy: Vec<(f64, f64, [f64; 2])> = pts
                     .iter()
                     .filter_map(|p| {
@@ -347,15 +348,6 @@ fn plot_histograms(points: &[Point]) -> Plot {
     let area = SVGBackend::new(&file, (1100, 440)).into_drawing_area();
     area.fill(&WHITE)?;
     let panels = area.split_evenly((1, 2));
-    let colours = [
-        BLUE,
-        RED,
-        GREEN,
-        MAGENTA,
-        CYAN,
-        BLACK,
-        RGBColor(200, 120, 0),
-    ];
     for (col, panel) in panels.iter().enumerate() {
         let mut chosen: Vec<&Point> = points
             .iter()
@@ -393,7 +385,7 @@ fn plot_histograms(points: &[Point]) -> Plot {
             .draw()?;
         for (c, p) in chosen.iter().enumerate() {
             let bins = mass_histogram(&p.masses, p.unit, 4, SEEDS as usize);
-            let colour = colours[c % colours.len()];
+            let colour = COLOURS[c % COLOURS.len()];
             let xy: Vec<(f64, f64)> = bins
                 .iter()
                 .filter(|b| b.count > 0)

@@ -305,18 +305,7 @@ fn main() {
                     );
                     record(
                         &format!("table3x nu={nu} safety=0.05"),
-                        pick(
-                            &s,
-                            &[
-                                "elements",
-                                "steps",
-                                "dt",
-                                "apparent_young",
-                                "apparent_poisson",
-                                "wall_seconds",
-                                "error",
-                            ],
-                        ),
+                        pick(&s, TABLE3_KEYS),
                     );
                 }
             }
@@ -327,53 +316,26 @@ fn main() {
                     0.49, 0.45, 0.4, 0.3, 0.2, 0.1, 0.0, -0.1, -0.2, -0.3, -0.4, -0.5, -0.6, -0.7,
                     -0.8, -0.95, -0.99,
                 ] {
-                    // Each row at the shipped step and at half of it: what the step does.
+                    // Each row at half the shipped step and at it: what the step does.
                     let refused = |e: String| json!({ "refused": e });
-                    let half = try_run(
-                        "scenes/dlsm_tensile.toml",
-                        &[
-                            format!("material.poisson={nu}"),
-                            "time.safety=0.165".to_string(),
-                        ],
-                    )
-                    .map_or_else(refused, |(_, s)| s);
-                    record(
-                        &format!("table3 nu={nu} safety=0.165"),
-                        pick(
-                            &half,
-                            &[
-                                "elements",
-                                "steps",
-                                "dt",
-                                "apparent_young",
-                                "apparent_poisson",
-                                "wall_seconds",
-                                "error",
-                                "refused",
+                    let mut s = Value::Null;
+                    for (label, sets) in [
+                        (
+                            format!("table3 nu={nu} safety=0.165"),
+                            vec![
+                                format!("material.poisson={nu}"),
+                                "time.safety=0.165".to_string(),
                             ],
                         ),
-                    );
-                    let s = try_run(
-                        "scenes/dlsm_tensile.toml",
-                        &[format!("material.poisson={nu}")],
-                    )
-                    .map_or_else(refused, |(_, s)| s);
-                    record(
-                        &format!("table3 nu={nu}"),
-                        pick(
-                            &s,
-                            &[
-                                "elements",
-                                "steps",
-                                "dt",
-                                "apparent_young",
-                                "apparent_poisson",
-                                "wall_seconds",
-                                "error",
-                                "refused",
-                            ],
+                        (
+                            format!("table3 nu={nu}"),
+                            vec![format!("material.poisson={nu}")],
                         ),
-                    );
+                    ] {
+                        s = try_run("scenes/dlsm_tensile.toml", &sets)
+                            .map_or_else(refused, |(_, s)| s);
+                        record(&label, pick(&s, TABLE3_KEYS));
+                    }
                     if let (Some(e), Some(p)) =
                         (s["apparent_young"].as_f64(), s["apparent_poisson"].as_f64())
                     {
@@ -448,29 +410,8 @@ fn main() {
                         "scenes/brazilian.toml",
                         &[format!("loading.arc_degrees={arc}")],
                     );
-                    record(
-                        &format!("brazilian arc={arc}"),
-                        pick(
-                            &s,
-                            &[
-                                "elements",
-                                "steps",
-                                "dt",
-                                "peak_force",
-                                "theory_force",
-                                "force_ratio",
-                                "crack_start_offset",
-                                "main_crack_start_offset",
-                                "broken_contacts",
-                                "wall_seconds",
-                            ],
-                        ),
-                    );
-                    let pts = columns(&r, "diametral_strain", "force")
-                        .into_iter()
-                        .map(|(e, f)| (e * 1e3, f / 1e3))
-                        .collect();
-                    lines.push((format!("2 alpha = {arc} degrees"), pts));
+                    record(&format!("brazilian arc={arc}"), pick(&s, BRAZILIAN_KEYS));
+                    lines.push((format!("2 alpha = {arc} degrees"), force_curve(&r)));
                 }
                 plot(
                     "dlsm_brazilian.svg",
@@ -494,29 +435,9 @@ fn main() {
                     );
                     record(
                         &format!("brazilian flat platens, {elements} elements"),
-                        pick(
-                            &s,
-                            &[
-                                "elements",
-                                "steps",
-                                "dt",
-                                "peak_force",
-                                "theory_force",
-                                "force_ratio",
-                                "first_break_time",
-                                "first_break_position",
-                                "crack_start_offset",
-                                "main_crack_start_offset",
-                                "broken_contacts",
-                                "wall_seconds",
-                            ],
-                        ),
+                        pick(&s, BRAZILIAN_KEYS),
                     );
-                    let pts = columns(&r, "diametral_strain", "force")
-                        .into_iter()
-                        .map(|(e, f)| (e * 1e3, f / 1e3))
-                        .collect();
-                    lines.push((format!("{} elements", s["elements"]), pts));
+                    lines.push((format!("{} elements", s["elements"]), force_curve(&r)));
                     cracks.push((
                         format!("{} elements", s["elements"]),
                         r.break_log
@@ -537,6 +458,42 @@ fn main() {
             other => eprintln!("unknown case {other}"),
         }
     }
+}
+
+/// What a Table 3 run records.
+const TABLE3_KEYS: &[&str] = &[
+    "elements",
+    "steps",
+    "dt",
+    "apparent_young",
+    "apparent_poisson",
+    "wall_seconds",
+    "error",
+    "refused",
+];
+
+/// What a Brazilian run records.
+const BRAZILIAN_KEYS: &[&str] = &[
+    "elements",
+    "steps",
+    "dt",
+    "peak_force",
+    "theory_force",
+    "force_ratio",
+    "first_break_time",
+    "first_break_position",
+    "crack_start_offset",
+    "main_crack_start_offset",
+    "broken_contacts",
+    "wall_seconds",
+];
+
+/// Force (kN) against diametral strain (1e-3) of a Brazilian run.
+fn force_curve(r: &DlsmRun) -> Vec<(f64, f64)> {
+    columns(r, "diametral_strain", "force")
+        .into_iter()
+        .map(|(e, f)| (e * 1e3, f / 1e3))
+        .collect()
 }
 
 /// Where the contacts broke, in the disc's plane, one panel per run: the first tenth of the
