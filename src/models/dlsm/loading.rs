@@ -704,6 +704,22 @@ mod tests {
     }
 
     #[test]
+    fn ramp_travel_is_the_integral_of_the_ramp() {
+        // Midpoint sums of ramp_factor against the closed form, during and after the ramp.
+        let ramp = 2e-3;
+        for t in [0.3e-3, 1e-3, 2e-3, 3.7e-3] {
+            let n = 200_000;
+            let h = t / n as f64;
+            let sum: f64 = (0..n)
+                .map(|k| ramp_factor((k as f64 + 0.5) * h, ramp) * h)
+                .sum();
+            assert!((ramp_travel(t, ramp) - sum).abs() < 1e-12, "{t}");
+        }
+        assert_eq!(ramp_travel(-1.0, ramp), 0.0);
+        assert_eq!(ramp_travel(0.5, 0.0), 0.5);
+    }
+
+    #[test]
     fn take_offs_count_rows_leaving_the_ground() {
         // In the air, lands, leaves, chatters down to none for one row, rests.
         assert_eq!(
