@@ -793,15 +793,7 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             // S = L0² = the element size squared) unless material.contact_stiffness says
             // otherwise, with the material's friction.
             let (platens, platen_start) = if l.load_by == Some(LoadBy::FlatPlatens) {
-                let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
-                for (i, shape) in s.shapes.iter().enumerate() {
-                    let r = s.bodies.orientation[i];
-                    for v in &shape.vertices {
-                        let y = (s.bodies.pos[i] + r * v).y;
-                        lowest = lowest.min(y);
-                        highest = highest.max(y);
-                    }
-                }
+                let (lowest, highest) = extent_along(s, &Vec3::y());
                 let m = &cfg.material;
                 let k = m.contact_stiffness.unwrap_or(m.young * s.info.element_size);
                 let n = s.bodies.len();
@@ -854,15 +846,7 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             let angle = l.ground_angle_degrees.unwrap_or(0.0).to_radians();
             let normal = Vec3::new(angle.sin(), 0.0, angle.cos());
             let downslope = Vec3::new(angle.cos(), 0.0, -angle.sin());
-            let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
-            for (i, shape) in s.shapes.iter().enumerate() {
-                let r = s.bodies.orientation[i];
-                for v in &shape.vertices {
-                    let h = normal.dot(&(s.bodies.pos[i] + r * v));
-                    lowest = lowest.min(h);
-                    highest = highest.max(h);
-                }
-            }
+            let (lowest, highest) = extent_along(s, &normal);
             let ground_point = normal * (lowest - l.drop_height.unwrap_or(0.0));
             let total: f64 = s.bodies.mass.iter().sum();
             let centre = s
@@ -896,4 +880,18 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             end_time: l.end_time.expect("validated"),
         },
     })
+}
+
+/// The lowest and highest projection of the sample's element vertices on `direction`.
+fn extent_along(s: &DlsmSample, direction: &Vec3) -> (f64, f64) {
+    let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
+    for (i, shape) in s.shapes.iter().enumerate() {
+        let r = s.bodies.orientation[i];
+        for v in &shape.vertices {
+            let h = direction.dot(&(s.bodies.pos[i] + r * v));
+            lowest = lowest.min(h);
+            highest = highest.max(h);
+        }
+    }
+    (lowest, highest)
 }
