@@ -33,10 +33,12 @@ pub trait Model: Default {
     const GUID: &'static str;
     /// The modelIdentifier; also the instance name when the host passes none.
     const MODEL_IDENTIFIER: &'static str;
-    /// The phases in which fmi2SetReal, fmi2SetInteger and fmi2SetString are allowed at
-    /// all; the setters then check each variable (a parameter only before running...).
+    /// The phases in which fmi2SetReal, fmi2SetInteger, fmi2SetBoolean and fmi2SetString are
+    /// allowed at all; the setters then check each variable (a parameter only before
+    /// running...).
     const SET_REAL_IN: &'static [Phase];
     const SET_INTEGER_IN: &'static [Phase];
+    const SET_BOOLEAN_IN: &'static [Phase] = &[];
     const SET_STRING_IN: &'static [Phase];
     /// Whether the model has Boolean variables; without, fmi2GetBoolean and fmi2SetBoolean
     /// refuse any non-empty call and [`Model::boolean`] and [`Model::set_boolean`] are unused.
@@ -627,6 +629,7 @@ pub extern "C" fn fmi2SetBoolean(
         if !FmuModel::HAS_BOOLEANS {
             return Err("this FMU has no Boolean variables".to_string());
         }
+        i.expect(FmuModel::SET_BOOLEAN_IN, "fmi2SetBoolean")?;
         let (vrs, values) = slices(vrs, n, values)?;
         for (r, v) in vrs.iter().zip(values) {
             i.model.set_boolean(*r, *v != 0, i.phase)?;

@@ -206,6 +206,8 @@ impl Model for Shpb {
         &[Phase::Instantiated, Phase::Initialization, Phase::Running];
     const SET_INTEGER_IN: &'static [Phase] = &[Phase::Instantiated, Phase::Initialization];
     const SET_STRING_IN: &'static [Phase] = &[Phase::Instantiated, Phase::Initialization];
+    /// `fracture`, a parameter.
+    const SET_BOOLEAN_IN: &'static [Phase] = &[Phase::Instantiated, Phase::Initialization];
     const HAS_BOOLEANS: bool = true;
     type Saved = Saved;
 
@@ -338,16 +340,12 @@ impl Model for Shpb {
         Ok(self.vars.fracture)
     }
 
-    fn set_boolean(&mut self, r: u32, value: bool, phase: Phase) -> Result<(), Failure> {
+    fn set_boolean(&mut self, r: u32, value: bool, _phase: Phase) -> Result<(), Failure> {
         if r != vr::FRACTURE {
             return Err(format!(
                 "{r} is not the value reference of a Boolean variable"
             ));
         }
-        phase.expect(
-            &[Phase::Instantiated, Phase::Initialization],
-            "setting the parameter fracture",
-        )?;
         self.vars.fracture = value;
         Ok(())
     }
