@@ -284,7 +284,7 @@ fn main() {
             e_r = e_r.max((c.r_eff - x.r_eff).abs() / x.r_eff);
         }
         let ns = fastest(&cases, 2000, |(a, b, g)| {
-            black_box(contact_with_tolerance(a, b, g, tol));
+            let _ = black_box(contact_with_tolerance(a, b, g, tol));
         });
         println!(
             "| {tol:.0e} | {ns:.1} | {:.2} | {e_n:.1e} | {e_d:.1e} | {e_r:.1e} |",

@@ -12,8 +12,8 @@
 //! are set by round-off and by the search's resolution of the direction, not by sampling.
 
 use fractum::contact::convex::{
-    ContactGeometry, ConvexShape, GRADIENT_TOLERANCE, Placed, contact, contact_with_tolerance,
-    support_world, wall_contact,
+    ContactGeometry, ConvexShape, GRADIENT_TOLERANCE, Placed, contact, contact_or_gap,
+    contact_with_tolerance, support_world, wall_contact,
 };
 use fractum::shape::poly_ellipsoid::{PolyEllipsoid, cube_direction, cube_grid};
 use nalgebra::{Matrix3, UnitQuaternion, Vector3};
@@ -741,4 +741,78 @@ fn bounding_radius_bounds_the_surface() {
         worst = worst.max(r / refined - 1.0);
     }
     println!("bounding radius above the farthest surface point by at most {worst:.1e} (relative)");
+}
+
+/// `contact_or_gap`'s gap, by which the contact effect skips the search of a separated pair
+/// until its bodies have moved that far: never more than the distance between the bodies, and
+/// while the two centroids' translations plus each bounding radius times its body's rotation
+/// angle add up to less than it, the pair stays apart. Pairs placed at known distances
+/// (1e-6 to 1e-2 R along a common normal), guesses of three lengths (a unit normal, and the
+/// centre-to-centre vector times 1e3 and 1e-3: the gap is per unit direction), then moved
+/// towards each other and turned by random shares of 0.999 of the gap.
+#[test]
+fn the_gap_of_a_separated_pair_bounds_the_motion_that_keeps_it_apart() {
+    let mut rng = ChaCha8Rng::seed_from_u64(33);
+    let mut checked = 0;
+    for i in 0..400 {
+        let distance = R * 10f64.powf(uniform(&mut rng, -6.0, -2.0));
+        let p = random_pair(&mut rng, i, -distance);
+        let (a, b) = placed_pair(&p);
+        let c2c = a.centroid() - b.centroid();
+        for guess in [-p.m, c2c * 1e3, c2c * 1e-3] {
+            let gap = match contact_or_gap(&a, &b, &guess) {
+                Err(gap) => gap,
+                Ok(c) => panic!("pair {i} apart by {distance:e} found touching: {c:?}"),
+            };
+            assert!(
+                gap >= 0.0 && gap <= distance * (1.0 + 1e-9) + 1e-15 * R,
+                "pair {i}: gap {gap:e} against the distance {distance:e}"
+            );
+            let radius = |p: &Placed| match p.shape {
+                ConvexShape::Sphere { radius } => radius,
+                ConvexShape::PolyEllipsoid(pe) => pe.bounding_radius(),
+            };
+            for _ in 0..5 {
+                // Shares of the budget: A's and B's translations (towards each other along
+                // the normal, or anywhere) and turns.
+                let w: [f64; 4] = std::array::from_fn(|_| uniform(&mut rng, 0.0, 1.0));
+                let sum: f64 = w.iter().sum();
+                let budget = 0.999 * gap;
+                let towards = uniform(&mut rng, 0.0, 1.0) < 0.5;
+                let dir = |rng: &mut ChaCha8Rng, m: V3| {
+                    if towards { m } else { random_direction(rng) }
+                };
+                let ta = dir(&mut rng, p.m) * (budget * w[0] / sum);
+                let tb = dir(&mut rng, -p.m) * (budget * w[1] / sum);
+                let turn = |rng: &mut ChaCha8Rng, body: &Placed, share: f64| {
+                    let angle = budget * share / sum / radius(body);
+                    UnitQuaternion::from_scaled_axis(random_direction(rng) * angle)
+                        .to_rotation_matrix()
+                        .into_inner()
+                };
+                fn moved<'a>(body: &Placed<'a>, t: V3, r: Matrix3<f64>) -> Placed<'a> {
+                    let c = body.centroid() + t;
+                    let rot = r * body.rot;
+                    let local = match body.shape {
+                        ConvexShape::Sphere { .. } => V3::zeros(),
+                        ConvexShape::PolyEllipsoid(pe) => pe.centroid(),
+                    };
+                    Placed {
+                        shape: body.shape,
+                        origin: c - rot * local,
+                        rot,
+                    }
+                }
+                let ra = turn(&mut rng, &a, w[2]);
+                let rb = turn(&mut rng, &b, w[3]);
+                let (a2, b2) = (moved(&a, ta, ra), moved(&b, tb, rb));
+                assert!(
+                    contact(&a2, &b2, &(a2.centroid() - b2.centroid())).is_none(),
+                    "pair {i}: moved by {budget:e} of a gap of {gap:e} and touching"
+                );
+                checked += 1;
+            }
+        }
+    }
+    println!("{checked} moved pairs stayed apart");
 }

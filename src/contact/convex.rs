@@ -386,17 +386,38 @@ fn newton_step(k: &[f64; 3], g: &[f64; 2], tol: f64) -> [f64; 2] {
 /// `x_A - x_B`. A zero or non-finite guess falls back to the centroid-to-centroid direction,
 /// and coincident centroids to +x.
 pub fn contact(a: &Placed, b: &Placed, guess: &Vector3<f64>) -> Option<ContactGeometry> {
+    contact_with_tolerance(a, b, guess, GRADIENT_TOLERANCE).ok()
+}
+
+/// [`contact`], or when A and B are separated `Err(gap)`: the gap (m, >= 0) between their
+/// projections on the separating direction `m` the search met, `-δ(m)`. The bodies touch only
+/// where δ >= 0 in every direction, and δ(m) changes by at most the two centroids'
+/// translations plus each body's bounding radius (about its centroid) times its rotation
+/// angle: while those motions add up to less than `gap`, A and B stay apart. 0 where it cannot
+/// be told (NaN).
+pub fn contact_or_gap(
+    a: &Placed,
+    b: &Placed,
+    guess: &Vector3<f64>,
+) -> Result<ContactGeometry, f64> {
     contact_with_tolerance(a, b, guess, GRADIENT_TOLERANCE)
 }
 
-/// [`contact`] with the convergence tolerance on the tangential gradient, as a fraction of
-/// `h_A + h_B`, given (docs/poly_ellipsoid.md shows what it costs and buys).
+/// The gap `-raw / norm` of a separating probe (`raw = norm δ`), 0 for NaN.
+#[inline(always)]
+fn gap_of(raw: f64, norm: f64) -> f64 {
+    let g = -raw / norm;
+    if g > 0.0 { g } else { 0.0 }
+}
+
+/// [`contact_or_gap`] with the convergence tolerance on the tangential gradient, as a fraction
+/// of `h_A + h_B`, given (docs/poly_ellipsoid.md shows what it costs and buys).
 pub fn contact_with_tolerance(
     a: &Placed,
     b: &Placed,
     guess: &Vector3<f64>,
     tolerance: f64,
-) -> Option<ContactGeometry> {
+) -> Result<ContactGeometry, f64> {
     let m = initial_direction(a, b, guess);
     let d0 = a.origin - b.origin;
     // δ's sign at the guess needs no normalised direction (h is 1-homogeneous).
@@ -404,7 +425,7 @@ pub fn contact_with_tolerance(
     let (qb, mb) = probe_placed(b, &-m);
     let raw = m.dot(&d0) + qa.h + qb.h;
     if below_zero(raw) {
-        return None;
+        return Err(gap_of(raw, m.norm_squared().sqrt()));
     }
     let norm = m.norm_squared().sqrt();
     // The iteration runs in the frame of a poly-ellipsoid (A's if it is one), so that one of
@@ -469,7 +490,12 @@ fn probe_placed(p: &Placed, d: &Vector3<f64>) -> (Probe, Vector3<f64>) {
 /// smallest axis width is solved again from the ± shape axes of both bodies, keeping the
 /// smallest minimum (deep overlaps can have several local minima).
 #[inline(always)]
-fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option<ContactGeometry> {
+fn solve<A: Side, B: Side>(
+    a: &A,
+    b: &B,
+    start: Start,
+    tolerance: f64,
+) -> Result<ContactGeometry, f64> {
     let Start {
         frame,
         rel,
@@ -487,7 +513,7 @@ fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option
                 let (qa, qb) = (a.probe(&a.to_body(&d), 1.0), b.probe(&b.to_body(&-d), 1.0));
                 let raw = d.dot(&rel) + qa.h + qb.h;
                 if below_zero(raw) {
-                    return None;
+                    return Err(gap_of(raw, 1.0));
                 }
                 let (e, steps) = newton(a, b, &rel, d, 1.0, raw, qa, qb, tolerance)?;
                 iterations += steps;
@@ -508,7 +534,7 @@ fn solve<A: Side, B: Side>(a: &A, b: &B, start: Start, tolerance: f64) -> Option
         db * ha[1] + da * hb[1],
         db * ha[0] + da * hb[0],
     ];
-    Some(ContactGeometry {
+    Ok(ContactGeometry {
         normal: -(frame * e.m),
         depth: e.delta,
         point: 0.5 * (point_a + point_b),
@@ -534,7 +560,7 @@ fn newton<A: Side, B: Side>(
     mut pa: Probe,
     mut pb: Probe,
     tolerance: f64,
-) -> Option<(Eval, u32)> {
+) -> Result<(Eval, u32), f64> {
     let inv = 1.0 / norm;
     rescale(&mut pa, norm, inv);
     rescale(&mut pb, norm, inv);
@@ -566,7 +592,7 @@ fn newton<A: Side, B: Side>(
             let mut qb = b.probe(&b.to_body(&-step), norm);
             let raw = step.dot(rel) + qa.h + qb.h;
             if below_zero(raw) {
-                return None;
+                return Err(gap_of(raw, norm));
             }
             if raw <= norm * (e.delta + round) {
                 let inv = 1.0 / norm;
@@ -585,9 +611,9 @@ fn newton<A: Side, B: Side>(
         iterations += 1;
     }
     if at_most_zero(e.delta) {
-        return None;
+        return Err(gap_of(e.delta, 1.0));
     }
-    Some((e, iterations))
+    Ok((e, iterations))
 }
 
 /// `x < 0`, or NaN: a NaN from degenerate input never counts as an overlap.

@@ -409,14 +409,33 @@ pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
     dt: f64,
     update: bool,
 ) -> Option<PairOut> {
-    if bounds_apart(&a.pos(), a.radius(), &b.pos(), b.radius()) {
-        forget(hist, &mut memory.radius, FRIC, POLY);
-        return None;
-    }
+    pair_contact_or_gap::<DAMP, FRIC, POLY>(k, a, b, hist, memory, dt, update).ok()
+}
+
+/// [`pair_contact`], with the gap of a separated pair: `Err(gap)` (m, >= 0) where the bodies do
+/// not touch and stay apart while their centroids' translations plus their bounding radii
+/// times their rotation angles add up to less than `gap` ([`convex::contact_or_gap`]; the
+/// bounding spheres' clearance for a pair whose bounding spheres are apart; 0 for two spheres
+/// in reach, whose test is cheap anyway).
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn pair_contact_or_gap<const DAMP: bool, const FRIC: bool, const POLY: bool>(
+    k: &KernelConsts,
+    a: &impl ContactBody,
+    b: &impl ContactBody,
+    hist: &mut Vec3,
+    memory: &mut PairMemory,
+    dt: f64,
+    update: bool,
+) -> std::result::Result<PairOut, f64> {
     let d = a.pos() - b.pos();
     let (ri, rj) = (a.radius(), b.radius());
     let rsum = ri + rj;
     let r2 = d.norm_squared();
+    if r2 >= rsum * rsum {
+        forget(hist, &mut memory.radius, FRIC, POLY);
+        return Err(r2.sqrt() - rsum);
+    }
     let m_eff = if DAMP {
         let (mi, mj) = (a.mass(), b.mass());
         mi * mj / (mi + mj)
@@ -429,9 +448,12 @@ pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
         } else {
             memory.normal
         };
-        let Some(g) = convex::contact(&a.placed(), &b.placed(), &guess) else {
-            forget(hist, &mut memory.radius, FRIC, POLY);
-            return None;
+        let g = match convex::contact_or_gap(&a.placed(), &b.placed(), &guess) {
+            Ok(g) => g,
+            Err(gap) => {
+                forget(hist, &mut memory.radius, FRIC, POLY);
+                return Err(gap);
+            }
         };
         memory.normal = g.normal;
         let r_eff = held_radius(&mut memory.radius, g.r_eff);
@@ -439,7 +461,7 @@ pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
         let v = a.vel() + a.omega().cross(&ci) - b.vel() - b.omega().cross(&cj);
         let c =
             hertz_mindlin::<DAMP, FRIC>(k, &g.normal, g.depth, r_eff, m_eff, &v, hist, dt, update);
-        return Some(PairOut {
+        return Ok(PairOut {
             force: c.force,
             torque_i: ci.cross(&c.force),
             torque_j: -cj.cross(&c.force),
@@ -464,7 +486,7 @@ pub fn pair_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
     } else {
         (Vec3::zeros(), Vec3::zeros())
     };
-    Some(PairOut {
+    Ok(PairOut {
         force: c.force,
         torque_i,
         torque_j,
@@ -583,6 +605,28 @@ pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
     wall_radius: Vec<Vec<f64>>,
     placements: Vec<Placement>,
     records: ContactRecords,
+    /// POLY: how far each body has moved since the effect was made (m: its centroid's path
+    /// plus its bounding radius times the angles it turned through), and its pose at the last
+    /// evaluation.
+    travel: Vec<f64>,
+    last_pose: Vec<(Vec3, UnitQuaternion<f64>)>,
+    /// POLY: per pair slot, the sum of the two bodies' travel below which they cannot touch
+    /// (the travel when the pair was last found apart plus its gap); 0 when they must be
+    /// searched. A pair below it is not searched: the search would find it apart again.
+    pair_reach: Vec<f64>,
+}
+
+/// A bound on the angle (rad) of the rotation from `from` to `to`: `2 asin(s)` with `s` the
+/// length of the vector part of `to from⁻¹`, bounded by `2.0944 s` while `s <= 1/2`
+/// (`asin(s)/s` grows from 1 to π/3 / (1/2) there), else π.
+#[inline(always)]
+fn turn_bound(from: &UnitQuaternion<f64>, to: &UnitQuaternion<f64>) -> f64 {
+    let s = (to * from.inverse()).imag().norm();
+    if s <= 0.5 {
+        2.0944 * s
+    } else {
+        std::f64::consts::PI
+    }
 }
 
 impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FRIC, POLY> {
@@ -618,16 +662,41 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             wall_radius: Vec::new(),
             placements: Vec::new(),
             records: ContactRecords::default(),
+            travel: Vec::new(),
+            last_pose: Vec::new(),
+            pair_reach: Vec::new(),
         }
     }
 
-    /// Places every poly-ellipsoid in the world for this evaluation.
+    /// Places every poly-ellipsoid in the world for this evaluation, and adds each body's
+    /// motion since the last one to its travel (a body new since then starts from here).
     fn place(&mut self, bodies: &Bodies) {
+        let n = bodies.len();
         self.placements.clear();
         self.placements.extend(
-            (0..bodies.len())
-                .map(|i| Placement::of(&bodies.pos[i], &bodies.orientation[i], &bodies.shape[i])),
+            (0..n).map(|i| Placement::of(&bodies.pos[i], &bodies.orientation[i], &bodies.shape[i])),
         );
+        self.travel.resize(n, 0.0);
+        self.last_pose.truncate(n);
+        let known = self.last_pose.len();
+        self.last_pose
+            .extend((known..n).map(|i| (bodies.pos[i], bodies.orientation[i])));
+        for (i, (x, q)) in self.last_pose.iter_mut().enumerate().take(known) {
+            let (pos, orientation) = (&bodies.pos[i], &bodies.orientation[i]);
+            // The bounding radius is an ascent's maximum: taken a millionth larger.
+            self.travel[i] +=
+                (pos - *x).norm() + bodies.radius[i] * (1.0 + 1e-6) * turn_bound(q, orientation);
+            *x = *pos;
+            *q = *orientation;
+        }
+    }
+
+    /// POLY: what a pair slot `s` of bodies `i`, `j` found apart by `gap` (m) may skip: the
+    /// travel it must reach before it is searched again, less a margin for round-off.
+    #[inline(always)]
+    fn reach(&self, i: usize, j: usize, gap: f64, bodies: &Bodies) -> f64 {
+        self.travel[i] + self.travel[j] + gap * (1.0 - 1e-9)
+            - 1e-12 * (bodies.radius[i] + bodies.radius[j])
     }
 
     fn rebuild_pairs(&mut self, bodies: &Bodies) {
@@ -650,6 +719,8 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         if POLY {
             self.pair_memory =
                 transfer_pair_data(&old_offsets, &old_partners, &self.pair_memory, &self.pairs);
+            self.pair_reach =
+                transfer_pair_data(&old_offsets, &old_partners, &self.pair_reach, &self.pairs);
         }
         self.chunk_threads = 0;
     }
@@ -708,8 +779,11 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         }
     }
 
-    /// The force of the pair (i, j), or None when the bodies do not overlap. `memory` is what
-    /// the pair remembers (POLY): its last normal warm-starts the contact search.
+    /// The force of the pair (i, j) in slot `s`, or None when the bodies do not overlap.
+    /// `memory` is what the pair remembers (POLY): its last normal warm-starts the contact
+    /// search. POLY: a pair whose bodies have not travelled far enough since it was last found
+    /// apart is not searched (`reach`, the slot's [`HertzContact::pair_reach`], is updated).
+    #[allow(clippy::too_many_arguments)]
     #[inline(always)]
     fn pair_force(
         &self,
@@ -718,14 +792,18 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         j: usize,
         hist: &mut Vec3,
         memory: &mut PairMemory,
+        reach: &mut f64,
         ctx: &StepContext,
     ) -> Option<PairOut> {
+        if POLY && *reach > self.travel[i] + self.travel[j] {
+            return None;
+        }
         let at = |i| BodyAt {
             bodies,
             placements: &self.placements,
             i,
         };
-        pair_contact::<DAMP, FRIC, POLY>(
+        match pair_contact_or_gap::<DAMP, FRIC, POLY>(
             &self.k,
             &at(i),
             &at(j),
@@ -733,22 +811,40 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             memory,
             ctx.dt,
             ctx.update_history,
-        )
+        ) {
+            Ok(p) => {
+                *reach = 0.0;
+                Some(p)
+            }
+            Err(gap) => {
+                if POLY {
+                    *reach = self.reach(i, j, gap, bodies);
+                }
+                None
+            }
+        }
     }
 
     fn pairs_serial(&mut self, bodies: &Bodies, forces: &mut Forces, ctx: &StepContext) {
         let mut count = 0;
         let mut dummy = Vec3::zeros();
         let mut dummy_n = PairMemory::default();
+        let mut dummy_reach = 0.0;
         let mut hist = std::mem::take(&mut self.pair_hist);
         let mut normals = std::mem::take(&mut self.pair_memory);
+        let mut reach = std::mem::take(&mut self.pair_reach);
         let mut records = std::mem::take(&mut self.records);
         for i in 0..bodies.len() {
             for s in self.pairs.row(i) {
                 let j = self.pairs.partners[s] as usize;
                 let h = if FRIC { &mut hist[s] } else { &mut dummy };
                 let nrm = if POLY { &mut normals[s] } else { &mut dummy_n };
-                if let Some(p) = self.pair_force(bodies, i, j, h, nrm, ctx) {
+                let r = if POLY {
+                    &mut reach[s]
+                } else {
+                    &mut dummy_reach
+                };
+                if let Some(p) = self.pair_force(bodies, i, j, h, nrm, r, ctx) {
                     forces.force[i] += p.force;
                     forces.force[j] -= p.force;
                     if FRIC || POLY {
@@ -765,6 +861,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         }
         self.pair_hist = hist;
         self.pair_memory = normals;
+        self.pair_reach = reach;
         self.records = records;
         self.contacts = count;
     }
@@ -801,6 +898,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             .collect();
         let mut hist = std::mem::take(&mut self.pair_hist);
         let mut normals = std::mem::take(&mut self.pair_memory);
+        let mut reach = std::mem::take(&mut self.pair_reach);
         let mut accs = std::mem::take(&mut self.accumulators);
         {
             fn parts<'a, T>(
@@ -820,14 +918,16 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                 .zip(accs.iter_mut())
                 .zip(parts(&mut hist, FRIC, &slot_ranges))
                 .zip(parts(&mut normals, POLY, &slot_ranges))
+                .zip(parts(&mut reach, POLY, &slot_ranges))
                 .collect();
             let this = &*self;
-            let counts = on_team(work, |_, (((rows, acc), hist), normals)| {
+            let counts = on_team(work, |_, ((((rows, acc), hist), normals), reach)| {
                 acc.clear();
                 let base = this.pairs.offsets[rows.start] as usize;
                 let lo = acc.range.start;
                 let mut dummy = Vec3::zeros();
                 let mut dummy_n = PairMemory::default();
+                let mut dummy_reach = 0.0;
                 let mut count = 0;
                 for i in rows.clone() {
                     for s in this.pairs.row(i) {
@@ -842,7 +942,12 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                         } else {
                             &mut dummy_n
                         };
-                        if let Some(p) = this.pair_force(bodies, i, j, h, nrm, ctx) {
+                        let r = if POLY {
+                            &mut reach[s - base]
+                        } else {
+                            &mut dummy_reach
+                        };
+                        if let Some(p) = this.pair_force(bodies, i, j, h, nrm, r, ctx) {
                             acc.force[i - lo] += p.force;
                             acc.force[j - lo] -= p.force;
                             if FRIC || POLY {
@@ -890,6 +995,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         });
         self.pair_hist = hist;
         self.pair_memory = normals;
+        self.pair_reach = reach;
         self.accumulators = accs;
     }
 
@@ -1015,6 +1121,9 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
                 self.pair_memory
                     .resize(self.pairs.len(), PairMemory::default());
             }
+            if self.pair_reach.len() != self.pairs.len() {
+                self.pair_reach.resize(self.pairs.len(), 0.0);
+            }
             if self.wall_radius.len() != self.wall_lists.candidates.len() {
                 self.wall_radius = self
                     .wall_lists
@@ -1054,6 +1163,10 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
                 if changed.contains(&i) || changed.contains(&(self.pairs.partners[s] as usize)) {
                     if let Some(m) = self.pair_memory.get_mut(s) {
                         m.radius = 0.0;
+                    }
+                    // A new shape: its old gaps tell nothing.
+                    if let Some(r) = self.pair_reach.get_mut(s) {
+                        *r = 0.0;
                     }
                 }
             }
@@ -1339,4 +1452,26 @@ pub fn frequency_bound(sum: f64) -> f64 {
 /// without friction), for [`frequency_share`].
 pub fn tangential_ratio(eight_g: f64, two_e: f64) -> f64 {
     eight_g / two_e
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The rotation bound behind the separated pairs' skip: never below the angle of the
+    /// rotation from one orientation to the other, and close to it for small turns.
+    #[test]
+    fn turn_bound_bounds_the_angle_between_orientations() {
+        let from = UnitQuaternion::from_euler_angles(0.3, -1.1, 2.0);
+        for k in 0..=400 {
+            let angle = std::f64::consts::PI * k as f64 / 400.0;
+            let axis = Vec3::new((k as f64).sin(), 0.5, (0.3 * k as f64).cos()).normalize();
+            let to = UnitQuaternion::from_scaled_axis(axis * angle) * from;
+            let bound = turn_bound(&from, &to);
+            assert!(bound >= angle * (1.0 - 1e-12), "{bound} below {angle}");
+            if angle < 0.1 {
+                assert!(bound <= 1.05 * angle + 1e-15, "{bound} far above {angle}");
+            }
+        }
+    }
 }
