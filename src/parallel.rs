@@ -470,20 +470,22 @@ const BLOCK: usize = 32;
 /// Fewer bodies than this run a per-body pass on the caller alone.
 const TEAM_MIN_BODIES: usize = 256;
 
-/// `0..n` as parts for [`on_team`]: with a team and at least [`TEAM_MIN_BODIES`] items, blocks
-/// of [`BLOCK`] consecutive items, dealt to the members in turn (block k to member k mod
-/// size); otherwise one part. Dealt blocks balance items of uneven cost (the pieces appended
-/// by splits cost twice an initial grain in the integrator: contiguous halves made the caller
-/// wait half the time), and each member gets the same blocks in every pass of a step, so their
-/// data stays in its core's cache.
-#[allow(clippy::single_range_in_vec_init)] // one part: the whole range
-pub fn blocks(n: usize) -> Vec<Range<usize>> {
+/// `0..n` as parts for [`on_team`] when this thread has a team and there are at least
+/// [`TEAM_MIN_BODIES`] items: blocks of [`BLOCK`] consecutive items, dealt to the members in
+/// turn (block k to member k mod size); `None` otherwise, when the caller runs the pass here,
+/// without building parts (nothing is allocated per step on one thread). Dealt blocks balance
+/// items of uneven cost (the pieces appended by splits cost twice an initial grain in the
+/// integrator: contiguous halves made the caller wait half the time), and each member gets
+/// the same blocks in every pass of a step, so their data stays in its core's cache.
+pub fn team_blocks(n: usize) -> Option<Vec<Range<usize>>> {
     if team_size() == 1 || n < TEAM_MIN_BODIES {
-        return vec![0..n];
+        return None;
     }
-    (0..n.div_ceil(BLOCK))
-        .map(|k| k * BLOCK..((k + 1) * BLOCK).min(n))
-        .collect()
+    Some(
+        (0..n.div_ceil(BLOCK))
+            .map(|k| k * BLOCK..((k + 1) * BLOCK).min(n))
+            .collect(),
+    )
 }
 
 /// Disjoint mutable pieces of `data`, one per range (ranges in order, not overlapping).
@@ -510,7 +512,7 @@ mod tests {
         team.awake_for(|| {
             assert_eq!(team_size(), 2);
             // 0..1000 in blocks of 32: 32 parts, dealt to this thread and the worker in turn.
-            let ranges = blocks(1000);
+            let ranges = team_blocks(1000).unwrap();
             assert_eq!(ranges.len(), 32);
             assert_eq!((ranges[0].clone(), ranges[31].clone()), (0..32, 992..1000));
             let runs = AtomicUsize::new(0);
@@ -526,7 +528,7 @@ mod tests {
             assert_eq!(runs.load(Ordering::SeqCst), 200 * 32);
             // Disjoint mutable pieces: each element written once, by index.
             let mut data = vec![0usize; 1000];
-            let ranges = blocks(data.len());
+            let ranges = team_blocks(data.len()).unwrap();
             let parts: Vec<_> = ranges
                 .iter()
                 .zip(split_ranges(&mut data, &ranges))
@@ -540,7 +542,7 @@ mod tests {
         });
         // Outside `awake_for` the caller has no team: one part, run here.
         assert_eq!(team_size(), 1);
-        assert_eq!(blocks(1000), vec![0..1000]);
+        assert_eq!(team_blocks(1000), None);
     }
 
     /// The worker takes parts when it keeps pace (dealt ones, or the caller's when the caller

@@ -8,7 +8,7 @@
 
 use rayon::prelude::*;
 
-use crate::parallel::{blocks, on_team, threads_here};
+use crate::parallel::{on_team, team_blocks, threads_here};
 use crate::state::{Vec3, Walls};
 
 /// Verlet half list of body pairs.
@@ -50,8 +50,7 @@ impl PairList {
         if self.ref_pos.len() != pos.len() {
             return f64::INFINITY;
         }
-        let parts = blocks(pos.len());
-        let max2 = if parts.len() > 1 {
+        let max2 = if let Some(parts) = team_blocks(pos.len()) {
             on_team(parts, |_, r| {
                 pos[r.clone()]
                     .iter()
@@ -102,8 +101,7 @@ impl PairList {
             row.sort_unstable();
             row
         };
-        let parts = blocks(n);
-        let rows: Vec<Vec<u32>> = if parts.len() > 1 {
+        let rows: Vec<Vec<u32>> = if let Some(parts) = team_blocks(n) {
             on_team(parts, |_, r| r.map(row).collect::<Vec<_>>())
                 .into_iter()
                 .flatten()

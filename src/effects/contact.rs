@@ -25,7 +25,7 @@ use crate::contact::hertz_mindlin::{
 };
 use crate::contact::neighbor::{PairList, WallLists, transfer_pair_data, transfer_wall_data};
 use crate::error::{Error, Result};
-use crate::parallel::{blocks, on_team, split_ranges, team_size};
+use crate::parallel::{on_team, split_ranges, team_blocks, team_size};
 use crate::probe::modes::{Dof, MassScale, highest_eigenvalue, largest_motion};
 use crate::shape::Shape;
 use crate::state::{Bodies, Body, Forces, Vec3, Walls, plane_distance, shape_placement};
@@ -974,7 +974,9 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             }
         }
         // Each body adds the accumulators that hold it, in chunk order.
-        let ranges = blocks(forces.force.len());
+        let n = forces.force.len();
+        #[allow(clippy::single_range_in_vec_init)] // one part: every body
+        let ranges = team_blocks(n).unwrap_or_else(|| vec![0..n]);
         let merge: Vec<_> = ranges
             .iter()
             .zip(split_ranges(&mut forces.force, &ranges))

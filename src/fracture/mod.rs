@@ -34,7 +34,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::effects::ContactRecords;
-use crate::parallel::{blocks, on_team};
+use crate::parallel::{on_team, team_blocks};
 use crate::probe::fragments;
 use crate::state::{Bodies, Body, Forces, Vec3};
 use break_plane::Trigger;
@@ -333,7 +333,7 @@ impl GrainFracture {
         // across the run's team, and the blocks' verdicts joined in grain order.
         let moment = &*moment;
         let critical = &*critical;
-        let verdicts = on_team(blocks(n), |_, grains| {
+        let verdicts = |grains: std::ops::Range<usize>| {
             let mut out = Vec::new();
             let mut c = critical.partition_point(|x| (x.0 as usize) < grains.start);
             for i in grains {
@@ -365,8 +365,14 @@ impl GrainFracture {
                 }
             }
             out
-        });
-        verdicts.into_iter().flatten().collect()
+        };
+        match team_blocks(n) {
+            Some(blocks) => on_team(blocks, |_, grains| verdicts(grains))
+                .into_iter()
+                .flatten()
+                .collect(),
+            None => verdicts(0..n),
+        }
     }
 
     /// Splits the breaking grains: each parent becomes its + half in place and its − half is

@@ -12,7 +12,7 @@ pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drif
 use nalgebra::UnitQuaternion;
 use rayon::prelude::*;
 
-use crate::parallel::{blocks, on_team, split_ranges, threads_here};
+use crate::parallel::{on_team, split_ranges, team_blocks, threads_here};
 use crate::state::Vec3;
 
 /// Bodies below which an update runs on one thread in a rayon pool without a team.
@@ -28,8 +28,7 @@ fn each_body(
     orientation: &mut [UnitQuaternion<f64>],
     update: impl Fn(usize, &mut Vec3, &mut Vec3, &mut Vec3, &mut UnitQuaternion<f64>) + Sync + Send,
 ) {
-    let ranges = blocks(pos.len());
-    if ranges.len() > 1 {
+    if let Some(ranges) = team_blocks(pos.len()) {
         let parts: Vec<_> = ranges
             .iter()
             .zip(split_ranges(pos, &ranges))
@@ -66,8 +65,7 @@ fn each_velocity(
     omega: &mut [Vec3],
     update: impl Fn((usize, (&mut Vec3, &mut Vec3))) + Sync + Send,
 ) {
-    let ranges = blocks(vel.len());
-    if ranges.len() > 1 {
+    if let Some(ranges) = team_blocks(vel.len()) {
         let parts: Vec<_> = ranges
             .iter()
             .zip(split_ranges(vel, &ranges))

@@ -8,7 +8,7 @@ mod walls;
 use nalgebra::{UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-use crate::parallel::{blocks, on_team};
+use crate::parallel::{on_team, team_blocks};
 use crate::shape::{self, PolyEllipsoid, Shape};
 
 pub use walls::{BoxFace, Wall, Walls, plane_distance};
@@ -229,16 +229,20 @@ impl Bodies {
     pub fn first_non_finite(&self) -> Option<usize> {
         // Checked after every step: across the run's team, each member over the bodies it
         // integrates (the data stays in that core's cache).
-        on_team(blocks(self.len()), |_, mut range| {
+        let first = |mut range: std::ops::Range<usize>| {
             range.find(|&i| {
                 !(self.pos[i].iter().all(|v| v.is_finite())
                     && self.vel[i].iter().all(|v| v.is_finite())
                     && self.omega[i].iter().all(|v| v.is_finite()))
             })
-        })
-        .into_iter()
-        .flatten()
-        .next()
+        };
+        match team_blocks(self.len()) {
+            Some(blocks) => on_team(blocks, |_, r| first(r))
+                .into_iter()
+                .flatten()
+                .next(),
+            None => first(0..self.len()),
+        }
     }
 }
 

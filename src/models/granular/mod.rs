@@ -388,8 +388,7 @@ impl Granular {
         let due = if st.psd.is_empty() {
             Some(0.0)
         } else {
-            self.report_strains()
-                .into_iter()
+            self.report_strains_iter()
                 .find(|&e| strain >= e - 1e-12 && st.psd.iter().all(|(s, _)| *s != e))
         };
         let Some(at) = due else {
@@ -482,15 +481,19 @@ impl Granular {
     /// The strains at which the size distribution and the stress are reported: those of an
     /// oedometer run up to its end strain.
     pub fn report_strains(&self) -> Vec<f64> {
+        self.report_strains_iter().collect()
+    }
+
+    /// [`Granular::report_strains`] without collecting them (checked at every step).
+    fn report_strains_iter(&self) -> impl Iterator<Item = f64> + '_ {
         let end = match self.state.loading {
             Loading::Oedometer { end_strain, .. } => end_strain,
-            _ => return Vec::new(),
+            _ => f64::NEG_INFINITY,
         };
         self.strains_asked
             .iter()
             .copied()
-            .filter(|&e| e <= end + 1e-12)
-            .collect()
+            .filter(move |&e| e <= end + 1e-12)
     }
 
     /// The `fracture` effect's results: grains broken, fragments, splits by criterion, springs,
