@@ -71,6 +71,9 @@ typedef struct FractumContact {
   double normal[3];
   // Normal force (N).
   double normal_force;
+  // Its elastic (Hertz) part 4/3 E* a delta (N): the force the contact tensile stress
+  // (Eq. 17, fractum_kernel_contact_tensile_stress) reads.
+  double hertz_force;
   // Hertz contact radius a (m).
   double radius;
   // Normal contact stiffness 2 E* a (N/m).
@@ -423,7 +426,8 @@ enum FractumStatus fractum_kernel_contact_law(double young,
 // damping), velocity `v` (3 doubles, m/s) of A's contact point relative to B's, and the
 // tangential displacement `hist` (3 doubles, m; read and updated with friction) over the
 // step `dt` (s); `update` = 0 only for a force evaluation that must not advance `hist`.
-// Fills force, normal_force, radius, stiffness, energy, dissipated and touching = 1 of
+// Fills force, normal_force, hertz_force, radius, stiffness, energy, dissipated and
+// touching = 1 of
 // `*out` (the rest 0).
 enum FractumStatus fractum_kernel_hertz_mindlin(const struct FractumContactLaw *law,
                                                 const double *n,
@@ -545,8 +549,9 @@ enum FractumStatus fractum_kernel_hoek_brown_fails(double s1,
                                                    double mi,
                                                    int32_t *fails);
 
-// The largest tensile stress (Pa) of a Hertz contact of normal force `normal_force` (N) and
-// contact radius `contact_radius` (m) for Poisson's ratio `poisson` (Eq. 17).
+// The largest tensile stress (Pa) of a Hertz contact of elastic (Hertz) normal force
+// `normal_force` (N: a contact's `hertz_force`, not its damped total) and contact radius
+// `contact_radius` (m) for Poisson's ratio `poisson` (Eq. 17).
 enum FractumStatus fractum_kernel_contact_tensile_stress(double normal_force,
                                                          double contact_radius,
                                                          double poisson,

@@ -44,6 +44,7 @@ fn pressed(dirs: &[Vec3], f: f64, a: f64) -> ContactRecords {
             normal: -d,
             force: -d * f,
             normal_force: f,
+            hertz_force: f,
             radius: a,
             stiffness: 0.0,
             energy: 0.0,

@@ -148,6 +148,9 @@ pub struct FractumContact {
     pub normal: [f64; 3],
     /// Normal force (N).
     pub normal_force: f64,
+    /// Its elastic (Hertz) part 4/3 E* a delta (N): the force the contact tensile stress
+    /// (Eq. 17, fractum_kernel_contact_tensile_stress) reads.
+    pub hertz_force: f64,
     /// Hertz contact radius a (m).
     pub radius: f64,
     /// Normal contact stiffness 2 E* a (N/m).
@@ -434,6 +437,7 @@ fn contact_out(p: Option<PairOut>) -> FractumContact {
             point: p.point.into(),
             normal: p.normal.into(),
             normal_force: p.c.normal_force,
+            hertz_force: p.c.hertz_force,
             radius: p.c.radius,
             stiffness: p.c.stiffness,
             energy: p.c.energy,
@@ -517,7 +521,8 @@ pub extern "C" fn fractum_kernel_contact_law(
 /// damping), velocity `v` (3 doubles, m/s) of A's contact point relative to B's, and the
 /// tangential displacement `hist` (3 doubles, m; read and updated with friction) over the
 /// step `dt` (s); `update` = 0 only for a force evaluation that must not advance `hist`.
-/// Fills force, normal_force, radius, stiffness, energy, dissipated and touching = 1 of
+/// Fills force, normal_force, hertz_force, radius, stiffness, energy, dissipated and
+/// touching = 1 of
 /// `*out` (the rest 0).
 #[unsafe(no_mangle)]
 #[allow(clippy::too_many_arguments)]
@@ -559,6 +564,7 @@ pub extern "C" fn fractum_kernel_hertz_mindlin(
         *out = FractumContact {
             force: c.force.into(),
             normal_force: c.normal_force,
+            hertz_force: c.hertz_force,
             radius: c.radius,
             stiffness: c.stiffness,
             energy: c.elastic_energy,
@@ -890,8 +896,9 @@ pub extern "C" fn fractum_kernel_hoek_brown_fails(
     })
 }
 
-/// The largest tensile stress (Pa) of a Hertz contact of normal force `normal_force` (N) and
-/// contact radius `contact_radius` (m) for Poisson's ratio `poisson` (Eq. 17).
+/// The largest tensile stress (Pa) of a Hertz contact of elastic (Hertz) normal force
+/// `normal_force` (N: a contact's `hertz_force`, not its damped total) and contact radius
+/// `contact_radius` (m) for Poisson's ratio `poisson` (Eq. 17).
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_contact_tensile_stress(
     normal_force: f64,
@@ -1581,6 +1588,7 @@ mod tests {
                 assert_eq!(
                     bits(&[
                         out.normal_force,
+                        out.hertz_force,
                         out.radius,
                         out.stiffness,
                         out.energy,
@@ -1588,6 +1596,7 @@ mod tests {
                     ]),
                     bits(&[
                         c.normal_force,
+                        c.hertz_force,
                         c.radius,
                         c.stiffness,
                         c.energy,
@@ -1731,6 +1740,7 @@ mod tests {
                 assert_eq!(
                     bits(&[
                         out.normal_force,
+                        out.hertz_force,
                         out.radius,
                         out.stiffness,
                         out.energy,
@@ -1738,6 +1748,7 @@ mod tests {
                     ]),
                     bits(&[
                         c.normal_force,
+                        c.hertz_force,
                         c.radius,
                         c.stiffness,
                         c.elastic_energy,
@@ -1882,6 +1893,7 @@ mod tests {
                     normal: Vec3::from(c.normal),
                     force: Vec3::from(c.force),
                     normal_force: c.normal_force,
+                    hertz_force: c.hertz_force,
                     radius: c.radius,
                     stiffness: c.stiffness,
                     energy: c.energy,

@@ -168,7 +168,7 @@ void FixFractumPlatens::post_force(int)
       pair->dissipated += out.dissipated;
       if (pair->frequency_due) pair->add_share(i, out, b, nullptr);
       if (pair->recording && grain && grain[i][3] == 0.0)
-        pair->record(i, out.force, out.point, out.normal_force, out.radius, grain[i][0]);
+        pair->record(i, out.force, out.point, out.hertz_force, out.radius, grain[i][0]);
     }
   }
   reduced_at = -1;

@@ -172,7 +172,7 @@ void PairFractumGranular::check_history()
                STYLE, history->dnum, history->nlocal_neigh, atom->nlocal);
 }
 
-void PairFractumGranular::record(int i, const double *f, const double *p, double normal_force,
+void PairFractumGranular::record(int i, const double *f, const double *p, double hertz_force,
                                  double radius, double strength)
 {
   double *m = &moment[9 * i];
@@ -180,7 +180,7 @@ void PairFractumGranular::record(int i, const double *f, const double *p, double
   for (int r = 0; r < 3; r++)
     for (int c = 0; c < 3; c++) m[3 * r + c] += f[r] * lever[c];
   double st = 0.0;
-  fractum_kernel_contact_tensile_stress(normal_force, radius, poisson, &st);
+  fractum_kernel_contact_tensile_stress(hertz_force, radius, poisson, &st);
   if (!(st > sigma_f * strength)) return;
   Critical &c = critical[i];
   // Keep the three largest, largest first; an equal stress goes after those already kept.
@@ -304,7 +304,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
         si.point[k] = out.point[k];
         si.normal[k] = out.normal[k];
       }
-      si.normal_force = out.normal_force;
+      si.hertz_force = out.hertz_force;
       si.radius = out.radius;
       si.stiffness = out.stiffness;
       contributions.push_back(si);
@@ -356,7 +356,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
       add_share(i, c, bodies[i], &bodies[s.j]);
     }
     if (recording && grain_arr[i][3] == 0.0)
-      record(i, s.force, s.point, s.normal_force, s.radius, grain_arr[i][0]);
+      record(i, s.force, s.point, s.hertz_force, s.radius, grain_arr[i][0]);
   }
   reshaped.clear();
 }

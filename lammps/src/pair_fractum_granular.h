@@ -55,7 +55,7 @@ class PairFractumGranular : public Pair {
   double elastic_energy = 0.0, dissipated = 0.0;    // this rank's, last evaluation
   int contacts = 0;
   /* Record one contact of owned atom i: force f on it at point p. */
-  void record(int i, const double *f, const double *p, double normal_force, double radius,
+  void record(int i, const double *f, const double *p, double hertz_force, double radius,
               double strength);
   /* Fractum's step adaptation (fix fractum/fracture adapt_dt) reads, per owned atom, the sum of
      its contacts' frequency shares: the pair and the walls fill it in an evaluation while
@@ -82,7 +82,7 @@ class PairFractumGranular : public Pair {
     int i, j;    // the owned atom and its partner (owned or ghost)
     tagint partner;
     double force[3], torque[3], point[3], normal[3];
-    double normal_force, radius, stiffness;
+    double hertz_force, radius, stiffness;
   };
   std::vector<Contribution> contributions;
   // Indices into contributions, grouped by atom (counting sort: each atom's first slot and a

@@ -112,15 +112,16 @@ impl KernelConsts {
 
 /// Result of one contact: the force on body i (N), the normal contact stiffness
 /// `dF_e/dδ = 2 E* a` (N/m), and for energy accounts and fracture criteria the normal force
-/// (N), the contact radius `a` (m), the elastic energy stored in the contact (J: normal
-/// `(2/5) F_e δ`, tangential `k_t |ξ|² / 2`) and the energy damping and sliding dissipated
-/// in this step (J). The kernel is always inlined: callers that ignore a field pay nothing
-/// for it.
+/// (N), its elastic (Hertz) part `F_e = 4/3 E* a δ` (N), the contact radius `a` (m), the
+/// elastic energy stored in the contact (J: normal `(2/5) F_e δ`, tangential `k_t |ξ|² / 2`)
+/// and the energy damping and sliding dissipated in this step (J). The kernel is always
+/// inlined: callers that ignore a field pay nothing for it.
 #[derive(Debug, Clone, Copy)]
 pub struct ContactForce {
     pub force: Vec3,
     pub stiffness: f64,
     pub normal_force: f64,
+    pub hertz_force: f64,
     pub radius: f64,
     pub elastic_energy: f64,
     pub dissipated: f64,
@@ -225,6 +226,7 @@ pub fn hertz_mindlin<const DAMP: bool, const FRIC: bool>(
         force,
         stiffness: k.two_e * a,
         normal_force: fn_total,
+        hertz_force: fn_elastic,
         radius: a,
         elastic_energy,
         dissipated,
@@ -265,6 +267,44 @@ mod tests {
         let expected = 4.0 / 3.0 * e_eff * r.sqrt() * delta.powf(1.5);
         assert!((f.force.z - expected).abs() < 1e-12 * expected);
         assert!((f.stiffness - 2.0 * e_eff * (r * delta).sqrt()).abs() < 1e-6);
+    }
+
+    /// The Hertz part of the normal force, which the contact tensile stress (Eq. 17) reads,
+    /// is `4/3 E* a δ` whatever the damping; the damped total differs while the bodies
+    /// approach, and over the Hertz radius it grows without bound as a contact begins
+    /// (`η v / a²` with `η ∝ a^½`), where the Hertz part's pressure falls to zero.
+    #[test]
+    fn the_hertz_force_is_the_elastic_part_and_its_pressure_vanishes_as_a_contact_begins() {
+        let k = consts(0.5, 0.3);
+        let e_eff = 60e9 / (2.0 * (1.0 - 0.17 * 0.17));
+        let (r, m, v) = (0.15e-3, 1e-7, 3.0);
+        let mut last_total = 0.0;
+        for delta in [1e-8, 1e-9, 1e-10] {
+            let mut h = Vec3::zeros();
+            // i approaches j along n: the relative velocity of i is -v n.
+            let f = hertz_mindlin::<true, false>(
+                &k,
+                &Vec3::z(),
+                delta,
+                r,
+                m,
+                &Vec3::new(0.0, 0.0, -v),
+                &mut h,
+                1e-9,
+                true,
+            );
+            let elastic = 4.0 / 3.0 * e_eff * r.sqrt() * delta.powf(1.5);
+            assert!((f.hertz_force - elastic).abs() < 1e-12 * elastic);
+            assert!(f.normal_force > 2.0 * f.hertz_force);
+            let a2 = f.radius * f.radius;
+            // q0 = 3F / (2π a²): from the Hertz force 2 E* a / (π R), falling with a.
+            let q_hertz = 3.0 * f.hertz_force / (2.0 * std::f64::consts::PI * a2);
+            let expected = 2.0 * e_eff * f.radius / (std::f64::consts::PI * r);
+            assert!((q_hertz / expected - 1.0).abs() < 1e-12);
+            let q_total = 3.0 * f.normal_force / (2.0 * std::f64::consts::PI * a2);
+            assert!(q_total > last_total);
+            last_total = q_total;
+        }
     }
 
     #[test]

@@ -80,8 +80,10 @@ pub struct ContactRecord {
     pub normal: Vec3,
     /// Force on i (N); j receives the opposite.
     pub force: Vec3,
-    /// Normal force (N) and Hertz contact radius (m).
+    /// Normal force (N), its elastic (Hertz) part (N), and the Hertz contact radius (m).
     pub normal_force: f64,
+    #[serde(default)]
+    pub hertz_force: f64,
     pub radius: f64,
     /// Normal contact stiffness 2 E* a (N/m).
     pub stiffness: f64,
@@ -127,9 +129,11 @@ pub struct PairOut {
 /// The scalar results of the kernel a record keeps.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct ContactOut {
-    /// Normal force (N), Hertz contact radius (m), normal stiffness 2 E* a (N/m), stored
-    /// elastic energy (J) and the energy damping and sliding dissipated in the step (J).
+    /// Normal force (N), its elastic (Hertz) part (N), Hertz contact radius (m), normal
+    /// stiffness 2 E* a (N/m), stored elastic energy (J) and the energy damping and sliding
+    /// dissipated in the step (J).
     pub normal_force: f64,
+    pub hertz_force: f64,
     pub radius: f64,
     pub stiffness: f64,
     pub energy: f64,
@@ -141,6 +145,7 @@ impl From<&ContactForce> for ContactOut {
     fn from(c: &ContactForce) -> Self {
         ContactOut {
             normal_force: c.normal_force,
+            hertz_force: c.hertz_force,
             radius: c.radius,
             stiffness: c.stiffness,
             energy: c.elastic_energy,
@@ -158,6 +163,7 @@ impl PairOut {
             normal: self.normal,
             force: self.force,
             normal_force: self.c.normal_force,
+            hertz_force: self.c.hertz_force,
             radius: self.c.radius,
             stiffness: self.c.stiffness,
             energy: self.c.energy,

@@ -317,7 +317,7 @@ impl GrainFracture {
                 return;
             }
             moment[i] += force * (r.point - bodies.pos[i]).transpose();
-            let st = criteria::contact_tensile_stress(r.normal_force, r.radius, p.poisson);
+            let st = criteria::contact_tensile_stress(r.hertz_force, r.radius, p.poisson);
             if st > p.sigma_f * strength[i] {
                 critical.push((i as u32, st, r.point));
             }
