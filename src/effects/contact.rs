@@ -434,14 +434,14 @@ pub fn pair_contact_or_gap<const DAMP: bool, const FRIC: bool, const POLY: bool>
     dt: f64,
     update: bool,
 ) -> std::result::Result<PairOut, f64> {
-    let d = a.pos() - b.pos();
     let (ri, rj) = (a.radius(), b.radius());
+    if bounds_apart(&a.pos(), ri, &b.pos(), rj) {
+        forget(hist, &mut memory.radius, FRIC, POLY);
+        return Err((a.pos() - b.pos()).norm() - (ri + rj));
+    }
+    let d = a.pos() - b.pos();
     let rsum = ri + rj;
     let r2 = d.norm_squared();
-    if r2 >= rsum * rsum {
-        forget(hist, &mut memory.radius, FRIC, POLY);
-        return Err(r2.sqrt() - rsum);
-    }
     let m_eff = if DAMP {
         let (mi, mj) = (a.mass(), b.mass());
         mi * mj / (mi + mj)
