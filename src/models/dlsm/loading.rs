@@ -180,7 +180,7 @@ impl Brazilian {
 /// p R dθ dz along the inward radius, goes to the element whose seed is nearest (the cell
 /// that holds that point), as a force at the seed and the moment of its offset. So each
 /// arc's resultant is 2 p R t sin α along y, and the two arcs' loads cancel in force and in
-/// moment. (On the faces' own areas they do not: at 3000 cells the top arc's faces had 20%
+/// moment. (On the faces' own areas they do not: at 3000 cells the top arc's faces had 16%
 /// less area than the bottom's, and a dead pressure on them accelerated the disc as a whole.)
 ///
 /// The servo: each arc carries P = K (c(t) − q), c the commanded closure of the two arcs
