@@ -164,6 +164,45 @@ fn a_good_scene_passes_these_checks() {
     assert!(Path::new(&file).exists());
 }
 
+#[test]
+fn brazilian_loadings_refuse_keys_that_do_not_go_with_them() {
+    let b = std::fs::read_to_string(common::repo().join("scenes/brazilian.toml")).unwrap();
+    for (by, arc) in [("flat_platens", "20"), ("curved_jaws", "12")] {
+        fails(
+            &b,
+            &[
+                "--set",
+                &format!("loading.load_by=\"{by}\""),
+                "--set",
+                &format!("loading.arc_degrees={arc}"),
+            ],
+            &["loading.arc_degrees", arc, "[0, 0]", by],
+        );
+    }
+    fails(
+        &b,
+        &["--set", "loading.load_by=\"arc_pressure\""],
+        &["loading.arc_degrees", "arc_pressure", "(0, 90]"],
+    );
+    fails(
+        &b,
+        &["--set", "loading.servo_stiffness=1e9"],
+        &["loading.servo_stiffness", "arc_pressure", "elements"],
+    );
+    fails(
+        &b,
+        &[
+            "--set",
+            "loading.load_by=\"arc_pressure\"",
+            "--set",
+            "loading.arc_degrees=20",
+            "--set",
+            "loading.servo_stiffness=-1",
+        ],
+        &["loading.servo_stiffness", "(0, ∞)", "N/m"],
+    );
+}
+
 // beam2d: its keys, and keys that belong to one model only.
 
 fn beam2d_base() -> String {

@@ -1,13 +1,15 @@
 //! Frictional, non-cohesive contacts of convex polyhedra (the `dlsm` model's elements):
-//! between the two elements of a broken cohesive contact, and between elements and a ground
-//! plane.
+//! between the two elements of a broken cohesive contact, and between elements and a rigid
+//! surface (a ground plane, a platen, a concave cylindrical jaw).
 //!
 //! Detection. Element pairs: GJK, then EPA when they overlap (parry3d-f64), on the support
 //! maps of the two polyhedra in their current poses; GJK/EPA returns the penetration depth
 //! δ, the normal and a witness point on each surface, and the force acts at the midpoint of
-//! the two. Ground: the vertex deepest below the plane (the support point along the inward
-//! normal, which is what GJK/EPA returns against a half-space), acting at that vertex. A
-//! bounding-sphere test skips pairs and elements that cannot touch.
+//! the two. Plane: the vertex deepest below it (the support point along the inward normal,
+//! which is what GJK/EPA returns against a half-space), acting at that vertex. Concave
+//! cylinder: the vertex farthest from the axis (the distance from a line is convex, and a
+//! convex function's maximum over a convex polyhedron is at a vertex), with the radial
+//! normal there. A bounding-sphere test skips pairs and elements that cannot touch.
 //!
 //! Law. Normal force k δ; tangential force from an elastic spring of stiffness k_t on the
 //! accumulated relative tangential displacement (kept per contact, turned into the current
@@ -55,12 +57,28 @@ fn tangential_force(xi: &mut Vec3, n: &Vec3, vt: &Vec3, dt: f64, kt: f64, limit:
     -*xi * kt
 }
 
-/// The ground of a `drop`: a fixed plane every element may touch.
+/// The shape of a [`GroundContact`]'s rigid surface.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum Surface {
+    /// The plane through `point` normal to `normal`.
+    Plane,
+    /// A concave circular cylinder of `radius` (m) about an `axis` (unit, normal to
+    /// `normal`) through `point + radius × normal`: it touches the plane of [`Surface::Plane`]
+    /// at `point` and curves towards the elements on either side, as a jaw around a disc. Its
+    /// half on the far side of the axis is open.
+    Cylinder { radius: f64, axis: Vec3 },
+}
+
+/// A rigid surface every element may touch: the ground of a `drop`, a platen or a jaw of a
+/// Brazilian test.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct GroundContact {
     pub point: Vec3,
-    /// Upward unit normal.
+    /// The surface's unit normal at `point`, towards the elements.
     pub normal: Vec3,
+    pub surface: Surface,
+    /// The surface's velocity (m/s): the elements slide relative to it.
+    pub velocity: Vec3,
     /// Normal and tangential stiffness (N/m).
     pub stiffness: f64,
     /// Coulomb coefficient; 0 without the `friction` effect.
@@ -71,8 +89,10 @@ pub struct GroundContact {
     pub contacts: usize,
     pub energy: f64,
     /// The sum of the forces it applied to the elements in the last evaluation (N).
-    #[serde(default)]
     pub total: Vec3,
+    /// A cylinder's contact half-width in the last evaluation (m): the largest distance of a
+    /// touching vertex from the plane of the normal and the axis (0 for a plane).
+    pub reach: f64,
 }
 
 impl GroundContact {
@@ -80,6 +100,8 @@ impl GroundContact {
         GroundContact {
             point,
             normal: normal.normalize(),
+            surface: Surface::Plane,
+            velocity: Vec3::zeros(),
             stiffness,
             friction,
             history: if friction > 0.0 {
@@ -90,6 +112,94 @@ impl GroundContact {
             contacts: 0,
             energy: 0.0,
             total: Vec3::zeros(),
+            reach: 0.0,
+        }
+    }
+
+    /// The same contact law against a concave cylinder of `radius` about `axis` (see
+    /// [`Surface::Cylinder`]).
+    pub fn cylinder(mut self, radius: f64, axis: Vec3) -> Self {
+        let axis = axis.normalize();
+        self.surface = Surface::Cylinder {
+            radius,
+            axis: (axis - self.normal * self.normal.dot(&axis)).normalize(),
+        };
+        self
+    }
+
+    /// How far the surface can move along its normal before it reaches `p` (m; infinite where
+    /// it never does).
+    pub fn clearance(&self, p: &Vec3) -> f64 {
+        let n = self.normal;
+        match self.surface {
+            Surface::Plane => n.dot(&(p - self.point)),
+            Surface::Cylinder { radius, axis } => {
+                // In the plane normal to the axis: a across, b along the normal, from the
+                // axis; the surface moved by s reaches p when a² + (b − s)² = radius² on its
+                // solid half (b − s < 0).
+                let q = p - (self.point + n * radius);
+                let a = axis.cross(&n).dot(&q);
+                if a.abs() >= radius {
+                    return f64::INFINITY;
+                }
+                n.dot(&q) + (radius * radius - a * a).sqrt()
+            }
+        }
+    }
+
+    /// Moves the surface along its normal until it touches the nearest of `points` without
+    /// overlapping any.
+    pub fn place_touching(&mut self, points: impl IntoIterator<Item = Vec3>) {
+        let gap = points
+            .into_iter()
+            .map(|p| self.clearance(&p))
+            .fold(f64::INFINITY, f64::min);
+        if gap.is_finite() {
+            self.point += self.normal * gap;
+        }
+    }
+
+    /// Where element `i` (at `x`, turned by `r`) overlaps the surface most: the point, the
+    /// depth (> 0) and the normal there (towards the element).
+    fn overlap(
+        &self,
+        x: &Vec3,
+        bound: f64,
+        r: &nalgebra::Rotation3<f64>,
+        shape: &Polyhedron,
+    ) -> Option<(Vec3, f64, Vec3)> {
+        let n = self.normal;
+        match self.surface {
+            Surface::Plane => {
+                if n.dot(&(x - self.point)) > bound {
+                    return None;
+                }
+                let deepest = x + r * shape.support(&r.inverse_transform_vector(&(-n)));
+                let depth = -n.dot(&(deepest - self.point));
+                (depth > 0.0).then_some((deepest, depth, n))
+            }
+            Surface::Cylinder { radius, axis } => {
+                let centre = self.point + n * radius;
+                let off_axis = |p: &Vec3| {
+                    let q = p - centre;
+                    q - axis * axis.dot(&q)
+                };
+                let q = off_axis(x);
+                if q.norm() + bound <= radius || q.dot(&n) > bound {
+                    return None;
+                }
+                let mut best: Option<(Vec3, f64, Vec3)> = None;
+                for v in &shape.vertices {
+                    let p = x + r * v;
+                    let q = off_axis(&p);
+                    let distance = q.norm();
+                    let depth = distance - radius;
+                    if q.dot(&n) < 0.0 && depth > best.map_or(0.0, |b| b.1) {
+                        best = Some((p, depth, -q / distance));
+                    }
+                }
+                best
+            }
         }
     }
 
@@ -100,36 +210,35 @@ impl GroundContact {
         forces: &mut Forces,
         dt: f64,
     ) {
-        let n = self.normal;
         let k = self.stiffness;
         let friction = !self.history.is_empty();
+        let across = match self.surface {
+            Surface::Plane => None,
+            Surface::Cylinder { axis, .. } => Some(axis.cross(&self.normal)),
+        };
         self.contacts = 0;
         self.energy = 0.0;
         self.total = Vec3::zeros();
+        self.reach = 0.0;
         for (i, shape) in shapes.iter().enumerate().take(bodies.len()) {
             let x = bodies.pos[i];
-            if n.dot(&(x - self.point)) > bodies.radius[i] {
-                if friction {
-                    self.history[i] = Vec3::zeros();
-                }
-                continue;
-            }
             let r = bodies.orientation[i].to_rotation_matrix();
-            let deepest = x + r * shape.support(&r.inverse_transform_vector(&(-n)));
-            let depth = -n.dot(&(deepest - self.point));
-            if depth <= 0.0 {
+            let Some((deepest, depth, n)) = self.overlap(&x, bodies.radius[i], &r, shape) else {
                 if friction {
                     self.history[i] = Vec3::zeros();
                 }
                 continue;
-            }
+            };
             self.contacts += 1;
+            if let Some(t) = across {
+                self.reach = self.reach.max(t.dot(&(deepest - self.point)).abs());
+            }
             let fn_ = k * depth;
             let mut f = n * fn_;
             self.energy += 0.5 * k * depth * depth;
             if friction {
                 let arm = deepest - x;
-                let v = bodies.vel[i] + bodies.omega[i].cross(&arm);
+                let v = bodies.vel[i] + bodies.omega[i].cross(&arm) - self.velocity;
                 let vt = v - n * n.dot(&v);
                 let xi = &mut self.history[i];
                 f += tangential_force(xi, &n, &vt, dt, k, self.friction * fn_);
@@ -306,5 +415,76 @@ mod tests {
         assert_eq!(g.contacts, 1);
         assert!((f.force[0].z - 2e3).abs() < 1e-6);
         assert!((g.energy - 0.5 * 1e6 * 4e-6).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_cube_in_a_concave_cylinder_is_pushed_at_its_vertex_farthest_from_the_axis() {
+        // A cradle of radius 10 about the z axis through (0, 10, 0), its lowest line at the
+        // origin; a unit cube whose bottom face lies 2 mm below that line touches at the
+        // corners of that face, which lie farthest from the axis.
+        let (mut b, shapes) = two_cubes(0.0);
+        b.pos[0].y = 0.5 - 2e-3;
+        b.pos[1].y = 5.0;
+        let k = 1e6;
+        let mut g =
+            GroundContact::new(Vec3::zeros(), Vec3::y(), k, 0.0, 2).cylinder(10.0, Vec3::z());
+        let mut f = Forces::new(2);
+        g.accumulate(&b, &shapes, &mut f, 1e-4);
+        assert_eq!(g.contacts, 1);
+        // Either corner of the face's near edge or far edge (they tie): the one it chose.
+        let side = -f.force[0].x.signum();
+        let q = Vec3::new(0.5 * side, -2e-3 - 10.0, 0.0);
+        let depth = q.norm() - 10.0;
+        assert!((depth - 0.0144897).abs() < 1e-6, "{depth}");
+        // Radial, towards the axis, k times the depth.
+        let expected = -q / q.norm() * (k * depth);
+        assert!(
+            (f.force[0].xy() - expected.xy()).norm() < 1e-6,
+            "{}",
+            f.force[0]
+        );
+        assert_eq!(f.force[0].z, 0.0);
+        assert!((g.reach - 0.5).abs() < 1e-12);
+        assert!((g.total - f.force[0]).norm() < 1e-12);
+        // Placed touching, the same cube meets the cylinder at a corner and no deeper.
+        let vertices: Vec<Vec3> = shapes[0].vertices.iter().map(|v| b.pos[0] + v).collect();
+        let mut h = GroundContact::new(Vec3::new(0.0, -1.0, 0.0), Vec3::y(), k, 0.0, 2)
+            .cylinder(10.0, Vec3::z());
+        h.place_touching(vertices.iter().copied());
+        let nearest = vertices
+            .iter()
+            .map(|p| h.clearance(p))
+            .fold(f64::INFINITY, f64::min);
+        assert!(nearest.abs() < 1e-12, "{nearest}");
+        // Its lowest line lies below the corners by 10 − √(10² − 0.5²).
+        assert!((h.point.y - (-2e-3 - 10.0 + (100.0f64 - 0.25).sqrt())).abs() < 1e-12);
+        let mut f = Forces::new(2);
+        h.accumulate(&b, &shapes, &mut f, 1e-4);
+        assert!(f.force[0].norm() < 1e-6, "{}", f.force[0]);
+        // A plane's clearance is the signed distance.
+        let plane = GroundContact::new(Vec3::new(0.0, 1.0, 0.0), -Vec3::y(), k, 0.0, 2);
+        assert_eq!(plane.clearance(&Vec3::new(3.0, 0.25, -2.0)), 0.75);
+    }
+
+    #[test]
+    fn elements_carried_along_by_a_moving_surface_feel_no_friction() {
+        // The tangential spring loads with the slip relative to the surface, not with the
+        // element's own velocity.
+        let (mut b, shapes) = two_cubes(0.0);
+        b.pos[0].z = 0.5 - 1e-3;
+        b.pos[1].z = 5.0;
+        b.vel[0] = Vec3::new(0.3, 0.0, 0.0);
+        let mut g = GroundContact::new(Vec3::zeros(), Vec3::z(), 1e6, 0.5, 2);
+        g.velocity = Vec3::new(0.3, 0.0, 0.0);
+        let mut f = Forces::new(2);
+        for _ in 0..100 {
+            f.clear();
+            g.accumulate(&b, &shapes, &mut f, 1e-4);
+        }
+        assert_eq!(f.force[0].xy(), nalgebra::Vector2::zeros());
+        g.velocity = Vec3::zeros();
+        f.clear();
+        g.accumulate(&b, &shapes, &mut f, 1e-4);
+        assert!(f.force[0].x < 0.0, "a fixed surface resists the slip");
     }
 }

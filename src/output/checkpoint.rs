@@ -17,7 +17,9 @@ const MAGIC: &[u8; 8] = b"FRACTUM\x02";
 /// The magic of format 3 and before (unsealed).
 const OLD_MAGIC: &[u8; 8] = b"FRACTUM\x01";
 /// 5: dlsm states gained the Brazilian platens, the drop's size and the ground's total force.
-const FORMAT_VERSION: u32 = 5;
+/// 6: the ground contact gained its surface (plane or jaw), velocity and reach, the
+/// Brazilian loading its arcs' pressure.
+const FORMAT_VERSION: u32 = 6;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {

@@ -367,7 +367,9 @@ impl<'a> Budget<'a> {
 /// What a run's saved state ([`Run::save_state`]) starts with, and its format version.
 const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// 2: dlsm states gained the Brazilian platens, the drop's size and the ground's total force.
-const STATE_VERSION: u32 = 2;
+/// 3: the ground contact gained its surface (plane or jaw), velocity and reach, the
+/// Brazilian loading its arcs' pressure.
+const STATE_VERSION: u32 = 3;
 
 /// The runner's part of a checkpoint; the model's own bytes ride along.
 #[derive(Serialize, Deserialize)]

@@ -4,7 +4,7 @@ use std::fmt::Write;
 
 use super::loading::arc_factor;
 use super::scene::{DlsmScene, LoadBy, LoadingKind};
-use super::{DEFAULT_PHI, sample};
+use super::{DEFAULT_PHI, JAW_RADIUS, sample};
 use crate::error::Result;
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 
@@ -106,6 +106,20 @@ pub fn explain(scene: &Scene) -> Result<String> {
             l.speed.unwrap_or(0.0),
             l.end_strain.unwrap_or(0.0)
         ),
+        LoadingKind::Brazilian if l.load_by == Some(LoadBy::CurvedJaws) => format!(
+            "Brazilian test between two rigid curved jaws of radius {JAW_RADIUS} R (frictional contacts), {} m/s per side to diametral strain {}, force read on the jaws (Eq. 46, and Eq. 48 at the contact arc they make)",
+            l.speed.unwrap_or(0.0),
+            l.end_strain.unwrap_or(0.0)
+        ),
+        LoadingKind::Brazilian if l.load_by == Some(LoadBy::ArcPressure) => {
+            let arc = l.arc_degrees.unwrap_or(0.0);
+            format!(
+                "Brazilian test, a uniform radial pressure over loading arcs of {arc} degrees (k = {:.4}, Eq. 47) set by a servo on their closure, commanded at {} m/s per side to diametral strain {}; the disc's rigid motions held",
+                arc_factor(0.5 * arc.to_radians()),
+                l.speed.unwrap_or(0.0),
+                l.end_strain.unwrap_or(0.0)
+            )
+        }
         LoadingKind::Brazilian => {
             let arc = l.arc_degrees.unwrap_or(0.0);
             format!(

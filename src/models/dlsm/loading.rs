@@ -6,12 +6,13 @@
 //! is zeroed after the force evaluation, so the integrator keeps the prescribed value; the
 //! force removed is the reaction, the load the machine applies.
 
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::scene::VibrationMode;
-use crate::contact::polyhedron::GroundContact;
+use crate::bond::dlsm::rotation_vector;
+use crate::contact::polyhedron::{GroundContact, Surface};
 use crate::probe::Series;
 use crate::probe::fit::least_squares_slope;
 use crate::probe::spectrum::dominant_frequency;
@@ -93,17 +94,19 @@ pub struct FreeVibration {
     pub frequency_theory: f64,
 }
 
-/// The Brazilian test (Section 8.2.4): the elements of the loading arcs at the top and bottom
-/// of a disc move towards each other along y.
+/// The Brazilian test (Section 8.2.4): the disc squeezed across its y diameter, by driven
+/// elements of the loading arcs (the paper's), by two rigid platens or curved jaws, or by a
+/// uniform pressure over the loading arcs.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Brazilian {
     pub speed: f64,
     pub end_strain: f64,
     pub ramp_time: f64,
-    /// Half loading angle α (rad); 0 for flat loading.
+    /// Half loading angle α (rad); 0 for flat loading, platens and jaws.
     pub half_angle: f64,
     pub diameter: f64,
     pub thickness: f64,
+    /// The driven elements of the top and bottom loading arcs (empty unless they are driven).
     pub top: Vec<u32>,
     pub bottom: Vec<u32>,
     /// Initial distance between the mean heights of the bottom and top sets (m).
@@ -112,28 +115,261 @@ pub struct Brazilian {
     pub reaction: [f64; 2],
     pub stop_fraction: f64,
     pub tensile_strength: Option<f64>,
-    /// Flat platens, top (normal −y) and bottom (normal +y), when they load the disc; empty
-    /// when the elements of the loading arcs are driven (`top` and `bottom` are then those).
-    #[serde(default)]
+    /// Rigid surfaces, top (normal −y) and bottom (normal +y), when they load the disc: flat
+    /// platens or curved jaws; empty otherwise.
     pub platens: Vec<GroundContact>,
-    /// The platens' heights (y, m) at the start, top and bottom.
-    #[serde(default)]
+    /// The platens' (jaws') heights (y, m) at the start, top and bottom: their points
+    /// nearest to the disc's centre.
     pub platen_start: [f64; 2],
+    /// A uniform pressure over the loading arcs, when it loads the disc.
+    pub pressure: Option<ArcPressure>,
 }
 
 impl Brazilian {
-    /// Whether the elements of the loading arcs are driven (rather than platens loading the
-    /// disc).
+    /// Whether the elements of the loading arcs are driven (rather than platens, jaws or a
+    /// pressure loading the disc).
     pub fn drives_elements(&self) -> bool {
-        self.platens.is_empty()
+        self.platens.is_empty() && self.pressure.is_none()
     }
 
-    /// The platens' heights (y, m) at time `t`: each has moved `speed × ramp_travel` towards
-    /// the other.
+    /// Whether the platens are curved jaws.
+    pub fn jaws(&self) -> bool {
+        self.platens
+            .first()
+            .is_some_and(|p| matches!(p.surface, Surface::Cylinder { .. }))
+    }
+
+    /// The `loading.load_by` this loading was built from.
+    pub fn load_by(&self) -> &'static str {
+        if self.pressure.is_some() {
+            "arc_pressure"
+        } else if self.jaws() {
+            "curved_jaws"
+        } else if !self.platens.is_empty() {
+            "flat_platens"
+        } else {
+            "elements"
+        }
+    }
+
+    /// How far (m) each platen, jaw or side of the servo's command has moved towards the
+    /// other by time `t`: `speed × ramp_travel`.
+    pub fn travel(&self, t: f64) -> f64 {
+        self.speed * ramp_travel(t, self.ramp_time)
+    }
+
+    /// The platens' heights (y, m) at time `t`.
     pub fn platen_heights(&self, t: f64) -> [f64; 2] {
-        let travel = self.speed * ramp_travel(t, self.ramp_time);
+        let travel = self.travel(t);
         [self.platen_start[0] - travel, self.platen_start[1] + travel]
     }
+
+    /// The jaws' contact arc 2α (degrees) in the last evaluation: the angle at the disc's
+    /// centre spanned by the touching vertices, the mean of the two jaws.
+    pub fn contact_arc_degrees(&self) -> f64 {
+        let reach = mean_of(&[0, 1], |k| self.platens[k].reach);
+        2.0 * (reach / (0.5 * self.diameter)).min(1.0).asin().to_degrees()
+    }
+}
+
+/// A uniform radial pressure over the two loading arcs of a Brazilian disc (the loading of
+/// Eq. 47), set by a servo on the arcs' closure.
+///
+/// The pressure acts on the exact circle, not on the faceted surface of the sample: each arc
+/// (2α wide, the disc's thickness deep) is sampled on a fine grid and each sample's share,
+/// p R dθ dz along the inward radius, goes to the element whose seed is nearest (the cell
+/// that holds that point), as a force at the seed and the moment of its offset. So each
+/// arc's resultant is 2 p R t sin α along y, and the two arcs' loads cancel in force and in
+/// moment. (On the faces' own areas they do not: at 3000 cells the top arc's faces had 16%
+/// less area than the bottom's, and a dead pressure on them accelerated the disc as a whole.)
+///
+/// The servo: each arc carries P = K (c(t) − q), c the commanded closure of the two arcs
+/// (`speed` each, ramped as the platens) and q their measured closure, the inward
+/// displacements of the arcs' elements weighted by their shares of the load (rotations
+/// through their moments) over the resultant per unit pressure. P derives from the potential
+/// ½ K (c − q)²: the servo is a spring in series, so it cannot feed the lattice's
+/// non-conservative modes, and it never pulls (P ≥ 0). Stiffer than the disc, it follows the
+/// commanded rate and lets the load fall after the peak, as a displacement-controlled machine
+/// does.
+///
+/// Nothing else holds the disc, and this model cannot be left free under a pressure alone:
+/// its forces are not central (the contact force S σ n is not along the seeds' line), so the
+/// lattice's internal forces have a net moment on the elements' positions and the opposite
+/// one on their spins, which no configuration balances. Under the pressure the disc turned
+/// as a whole and all its elements spun alike, at rates growing as t² under the ramp, until
+/// the first break blew it apart. [`hold_free_motions`] takes those two accelerations (and the
+/// rigid translation's) out at each evaluation, as a support that carries only what they
+/// need; `held_moment` records its size.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ArcPressure {
+    /// The elements under the arcs, the top arc's first.
+    pub elements: Vec<u32>,
+    /// How many of `elements` are under the top arc.
+    pub top: usize,
+    /// Per element, the force and the moment about its seed that a unit pressure applies (m²,
+    /// m³).
+    pub force: Vec<Vec3>,
+    pub moment: Vec<Vec3>,
+    /// The resultant of a unit pressure on one arc, 2 R t sin α (m²): each arc's load is
+    /// the pressure times this.
+    pub area: f64,
+    /// Servo stiffness K (N/m).
+    pub stiffness: f64,
+    /// The elements' seeds and orientations at the start.
+    pub start: Vec<Vec3>,
+    pub start_orientation: Vec<UnitQuaternion<f64>>,
+    /// Closure (m) of the top and bottom arcs, and the load on each arc (N), in the last
+    /// evaluation.
+    pub closure: [f64; 2],
+    pub load: f64,
+    /// The moment (N·m) that holding the disc's rotation took in the last evaluation.
+    pub held_moment: f64,
+}
+
+impl ArcPressure {
+    /// The loads of the arcs of half angle `alpha` about +y and −y of a disc of `radius` and
+    /// `thickness` (z from −t/2 to t/2), shared among `candidates` (the elements whose seeds
+    /// may be nearest to a point of the arcs) by nearest seed, the arcs sampled every
+    /// `spacing` metres or finer.
+    pub fn new(
+        bodies: &Bodies,
+        candidates: &[u32],
+        [radius, thickness, alpha, spacing]: [f64; 4],
+        stiffness: f64,
+    ) -> Self {
+        let n_theta = ((2.0 * alpha * radius / spacing).ceil() as usize).max(1);
+        let n_z = ((thickness / spacing).ceil() as usize).max(1);
+        let (d_theta, d_z) = (2.0 * alpha / n_theta as f64, thickness / n_z as f64);
+        let (mut elements, mut force, mut moment) = (Vec::new(), Vec::new(), Vec::new());
+        let mut top = 0;
+        for side in [1.0, -1.0] {
+            let mut share = vec![(Vec3::zeros(), Vec3::zeros()); candidates.len()];
+            // Midpoints, symmetric about the vertical: the x components cancel.
+            for a in 0..n_theta {
+                let theta = -alpha + (a as f64 + 0.5) * d_theta;
+                let outward = Vec3::new(theta.sin(), side * theta.cos(), 0.0);
+                let f = -outward * (radius * d_theta * d_z);
+                for b in 0..n_z {
+                    let z = -0.5 * thickness + (b as f64 + 0.5) * d_z;
+                    let point = outward * radius + Vec3::new(0.0, 0.0, z);
+                    let Some(k) = (0..candidates.len()).min_by(|&p, &q| {
+                        let d =
+                            |k: usize| (bodies.pos[candidates[k] as usize] - point).norm_squared();
+                        d(p).total_cmp(&d(q))
+                    }) else {
+                        continue;
+                    };
+                    share[k].0 += f;
+                    share[k].1 += (point - bodies.pos[candidates[k] as usize]).cross(&f);
+                }
+            }
+            for (&i, (f, m)) in candidates.iter().zip(share) {
+                if f != Vec3::zeros() {
+                    elements.push(i);
+                    force.push(f);
+                    moment.push(m);
+                }
+            }
+            if side > 0.0 {
+                top = elements.len();
+            }
+        }
+        // The applied resultant, which is 2 R t sin α to the midpoint rule's (dθ)²/24.
+        let area = -force[..top].iter().map(|f| f.y).sum::<f64>();
+        ArcPressure {
+            start: elements.iter().map(|&i| bodies.pos[i as usize]).collect(),
+            start_orientation: elements
+                .iter()
+                .map(|&i| bodies.orientation[i as usize])
+                .collect(),
+            elements,
+            top,
+            force,
+            moment,
+            area,
+            stiffness,
+            closure: [0.0; 2],
+            load: 0.0,
+            held_moment: 0.0,
+        }
+    }
+
+    /// The shortest period (over 2π, s) of the servo spring on the arcs' elements alone:
+    /// 1/ω with ω² = K Σ (|f_i|²/m_i + |m_i|²/I_i) / A², I_i the least principal moment.
+    pub fn step_bound(&self, bodies: &Bodies) -> f64 {
+        let flexibility: f64 = self
+            .elements
+            .iter()
+            .enumerate()
+            .map(|(k, &i)| {
+                let i = i as usize;
+                self.force[k].norm_squared() / bodies.mass[i]
+                    + self.moment[k].norm_squared() / bodies.inertia[i].min()
+            })
+            .sum();
+        self.area / (self.stiffness * flexibility).sqrt()
+    }
+
+    /// Measures the arcs' closure, applies the pressure the servo sets for the commanded
+    /// closure `command` (m), and holds the disc's free motions.
+    fn apply(&mut self, bodies: &Bodies, forces: &mut Forces, command: f64) {
+        let mut closure = [0.0; 2];
+        for (k, &i) in self.elements.iter().enumerate() {
+            let i = i as usize;
+            let u = bodies.pos[i] - self.start[k];
+            let turn = rotation_vector(
+                &(bodies.orientation[i] * self.start_orientation[k].inverse()).into_inner(),
+            );
+            closure[usize::from(k >= self.top)] +=
+                self.force[k].dot(&u) + self.moment[k].dot(&turn);
+        }
+        self.closure = closure.map(|c| c / self.area);
+        self.load = (self.stiffness * (command - self.closure[0] - self.closure[1])).max(0.0);
+        let p = self.load / self.area;
+        for (k, &i) in self.elements.iter().enumerate() {
+            forces.force[i as usize] += self.force[k] * p;
+            forces.torque[i as usize] += self.moment[k] * p;
+        }
+        self.held_moment = hold_free_motions(bodies, forces);
+    }
+}
+
+/// Takes out of the forces and torques what would accelerate the elements as one rigid body
+/// (translation, and rotation about the centre of mass) or spin them all alike, and returns
+/// the moment (N·m) taken from the rotation. Each element loses its mass times the rigid
+/// acceleration at its seed, and its mean principal moment times one angular acceleration:
+/// the least change that zeroes the net force, the net moment on the positions and the net
+/// torque on the spins. With a load that is itself balanced, the two moments taken are
+/// equal and opposite: the support puts nothing into the disc's angular momentum.
+pub fn hold_free_motions(bodies: &Bodies, forces: &mut Forces) -> f64 {
+    let n = bodies.len();
+    let (mut mass, mut centre, mut net) = (0.0, Vec3::zeros(), Vec3::zeros());
+    let (mut spin_inertia, mut torque) = (0.0, Vec3::zeros());
+    for i in 0..n {
+        mass += bodies.mass[i];
+        centre += bodies.pos[i] * bodies.mass[i];
+        net += forces.force[i];
+        spin_inertia += bodies.inertia[i].sum() / 3.0;
+        torque += forces.torque[i];
+    }
+    centre /= mass;
+    let (mut inertia, mut moment) = (Matrix3::zeros(), Vec3::zeros());
+    for i in 0..n {
+        let r = bodies.pos[i] - centre;
+        inertia += (Matrix3::identity() * r.norm_squared() - r * r.transpose()) * bodies.mass[i];
+        moment += r.cross(&forces.force[i]);
+    }
+    let acceleration = net / mass;
+    let turning = inertia
+        .try_inverse()
+        .map_or(Vec3::zeros(), |inv| inv * moment);
+    let spinning = torque / spin_inertia;
+    for i in 0..n {
+        let r = bodies.pos[i] - centre;
+        forces.force[i] -= (acceleration + turning.cross(&r)) * bodies.mass[i];
+        forces.torque[i] -= spinning * (bodies.inertia[i].sum() / 3.0);
+    }
+    moment.norm()
 }
 
 /// A body thrown onto an inclined ground plane (Section 8.1).
@@ -230,8 +466,9 @@ impl DlsmLoading {
         }
     }
 
-    /// The platens of a Brazilian test push the elements they touch (positions at time `t`);
-    /// their reactions are the compressive forces they carry.
+    /// The platens or jaws of a Brazilian test push the elements they touch (positions at
+    /// time `t`), their reactions the compressive forces they carry; or the arcs' pressure
+    /// is applied.
     pub fn press(
         &mut self,
         bodies: &Bodies,
@@ -243,19 +480,19 @@ impl DlsmLoading {
         let DlsmLoading::Brazilian(l) = self else {
             return;
         };
-        if l.platens.is_empty() {
+        if let Some(arc) = &mut l.pressure {
+            arc.apply(bodies, forces, 2.0 * l.speed * ramp_travel(t, l.ramp_time));
+            l.reaction = [arc.load; 2];
             return;
         }
         let heights = l.platen_heights(t);
+        let speed = l.speed * ramp_factor(t, l.ramp_time);
         for (k, platen) in l.platens.iter_mut().enumerate() {
             platen.point.y = heights[k];
+            // The top platen moves and pushes the elements down (−y), the bottom one up.
+            platen.velocity = platen.normal * speed;
             platen.accumulate(bodies, shapes, forces, dt);
-            // The top platen pushes the elements down (−y), the bottom one up.
-            l.reaction[k] = if k == 0 {
-                -platen.total.y
-            } else {
-                platen.total.y
-            };
+            l.reaction[k] = platen.normal.dot(&platen.total);
         }
     }
 
@@ -329,15 +566,24 @@ impl DlsmLoading {
                     "total_energy",
                 ],
             },
-            DlsmLoading::Brazilian(_) => vec![
-                "time",
-                "diametral_strain",
-                "force",
-                "force_top",
-                "force_bottom",
-                "broken_contacts",
-                "kinetic_energy",
-            ],
+            DlsmLoading::Brazilian(l) => {
+                let mut c = vec![
+                    "time",
+                    "diametral_strain",
+                    "force",
+                    "force_top",
+                    "force_bottom",
+                    "broken_contacts",
+                    "kinetic_energy",
+                ];
+                if l.jaws() {
+                    c.push("contact_arc_degrees");
+                }
+                if l.pressure.is_some() {
+                    c.push("held_moment");
+                }
+                c
+            }
             DlsmLoading::Drop(_) => vec![
                 "time",
                 "kinetic_energy",
@@ -403,23 +649,32 @@ impl DlsmLoading {
                 vec![r.time, signal, ke, r.strain_energy, ke + r.strain_energy]
             }
             DlsmLoading::Brazilian(l) => {
-                let gap = if l.platens.is_empty() {
+                let closure = if let Some(arc) = &l.pressure {
+                    arc.closure[0] + arc.closure[1]
+                } else if l.platens.is_empty() {
                     // The driven arcs' mean heights.
-                    mean_of(&l.top, |i| b.pos[i].y) - mean_of(&l.bottom, |i| b.pos[i].y)
+                    l.gap - (mean_of(&l.top, |i| b.pos[i].y) - mean_of(&l.bottom, |i| b.pos[i].y))
                 } else {
                     let [top, bottom] = l.platen_heights(r.time);
-                    top - bottom
+                    l.gap - (top - bottom)
                 };
                 let force = 0.5 * (l.reaction[0] + l.reaction[1]);
-                vec![
+                let mut row = vec![
                     r.time,
-                    (l.gap - gap) / l.diameter,
+                    closure / l.diameter,
                     force,
                     l.reaction[0],
                     l.reaction[1],
                     r.broken as f64,
                     ke,
-                ]
+                ];
+                if l.jaws() {
+                    row.push(l.contact_arc_degrees());
+                }
+                if let Some(arc) = &l.pressure {
+                    row.push(arc.held_moment);
+                }
+                row
             }
             DlsmLoading::Drop(d) => {
                 let mut mass = 0.0;
@@ -567,9 +822,30 @@ impl DlsmLoading {
                 v.end_time,
                 v.frequency_theory
             ),
+            DlsmLoading::Brazilian(l) if l.pressure.is_some() => {
+                let arc = l.pressure.as_ref().expect("matched");
+                format!(
+                    "Brazilian test: a uniform radial pressure over the loading arcs (2 alpha = {:.1} degrees, shared by {} top and {} bottom elements), each arc's load K (c - q) from a servo of stiffness K = {:.3e} N/m on the arcs' closure q, commanded at {} m/s per side, rising over {:e} s, to diametral strain {}; the disc's rigid motions and uniform element spin held",
+                    2.0 * l.half_angle.to_degrees(),
+                    arc.top,
+                    arc.elements.len() - arc.top,
+                    arc.stiffness,
+                    l.speed,
+                    l.ramp_time,
+                    l.end_strain
+                )
+            }
             DlsmLoading::Brazilian(l) if !l.platens.is_empty() => format!(
-                "Brazilian test between two rigid flat platens (frictional contacts of stiffness {:.3e} N/m, friction {}) moving towards each other along y at {} m/s each, speed rising over {:e} s, to diametral strain {}; the force is read on the platens",
-                l.platens[0].stiffness, l.platens[0].friction, l.speed, l.ramp_time, l.end_strain
+                "Brazilian test between two rigid {} (frictional contacts of stiffness {:.3e} N/m, friction {}) moving towards each other along y at {} m/s each, speed rising over {:e} s, to diametral strain {}; the force is read on them",
+                match l.platens[0].surface {
+                    Surface::Plane => "flat platens".to_string(),
+                    Surface::Cylinder { radius, .. } => format!("curved jaws of radius {radius} m"),
+                },
+                l.platens[0].stiffness,
+                l.platens[0].friction,
+                l.speed,
+                l.ramp_time,
+                l.end_strain
             ),
             DlsmLoading::Brazilian(l) => format!(
                 "Brazilian test: {} top and {} bottom elements (loading arc 2 alpha = {:.1} degrees) move towards each other along y at {} m/s each, speed rising over {:e} s, to diametral strain {}",
@@ -654,14 +930,37 @@ pub fn arc_factor(alpha: f64) -> f64 {
 fn brazilian_summary(l: &Brazilian, series: &Series, out: &mut Map<String, Value>) {
     // Eq. 46, divided by k of Eq. 47 for a loading arc (Eq. 48).
     let sf = l.tensile_strength.unwrap_or(0.0);
-    let theory =
-        std::f64::consts::FRAC_PI_2 * sf * l.diameter * l.thickness / arc_factor(l.half_angle);
+    let eq46 = std::f64::consts::FRAC_PI_2 * sf * l.diameter * l.thickness;
+    let theory = eq46 / arc_factor(l.half_angle);
     if let Some(force) = series.column("force") {
-        let peak = force.iter().copied().fold(0.0, f64::max);
+        let (k, peak) = force
+            .iter()
+            .copied()
+            .enumerate()
+            .fold((0, 0.0), |a, (k, f)| if f > a.1 { (k, f) } else { a });
+        let peak_row = (peak > 0.0).then_some(k);
         out.insert("peak_force".into(), peak.into());
         if sf > 0.0 {
             out.insert("theory_force".into(), theory.into());
             out.insert("force_ratio".into(), (peak / theory).into());
+        }
+        // Jaws: Eq. 48 with the contact arc they made at the peak.
+        if let (Some(arcs), Some(k)) = (series.column("contact_arc_degrees"), peak_row) {
+            let arc = arcs[k];
+            out.insert("contact_arc_degrees".into(), arc.into());
+            if sf > 0.0 {
+                let at_arc = eq46 / arc_factor(0.5 * arc.to_radians());
+                out.insert("theory_force_arc".into(), at_arc.into());
+                out.insert("force_ratio_arc".into(), (peak / at_arc).into());
+            }
+        }
+        // The arcs' pressure: the moment the support of the free motions took at the peak,
+        // over the load's own moment scale P R.
+        if let (Some(held), Some(k)) = (series.column("held_moment"), peak_row) {
+            out.insert(
+                "held_moment_ratio".into(),
+                (held[k] / (peak * 0.5 * l.diameter)).into(),
+            );
         }
     }
     out.insert(
@@ -670,17 +969,12 @@ fn brazilian_summary(l: &Brazilian, series: &Series, out: &mut Map<String, Value
     );
     out.insert(
         "loaded_elements".into(),
-        (l.top.len() + l.bottom.len()).into(),
+        (l.top.len() + l.bottom.len() + l.pressure.as_ref().map_or(0, |p| p.elements.len())).into(),
     );
-    out.insert(
-        "load_by".into(),
-        if l.platens.is_empty() {
-            "elements"
-        } else {
-            "flat_platens"
-        }
-        .into(),
-    );
+    out.insert("load_by".into(), l.load_by().into());
+    if let Some(arc) = &l.pressure {
+        out.insert("servo_stiffness".into(), arc.stiffness.into());
+    }
 }
 
 /// Take-offs in a series of contact counts: rows with none that follow a row with some.
@@ -728,6 +1022,89 @@ mod tests {
         );
         assert_eq!(take_offs(&[]), 0);
         assert_eq!(take_offs(&[0.0, 0.0]), 0);
+    }
+
+    /// Seeds on a ring just inside a disc of radius 0.1 m, thickness 0.02 m, at three depths
+    /// through the thickness, a few of them off the ring's regular spacing.
+    fn ring() -> Bodies {
+        let mut b = Bodies::default();
+        for k in 0..120 {
+            let theta =
+                (k as f64 + 0.3 * ((k * 7) % 5) as f64 / 5.0) / 120.0 * std::f64::consts::TAU;
+            for z in [-0.006, 0.0, 0.007] {
+                let r = 0.097 - 0.001 * ((k + 3) % 4) as f64;
+                b.push_polyhedron(
+                    Vec3::new(r * theta.sin(), r * theta.cos(), z),
+                    1e-3 * (1.0 + 0.1 * (k % 3) as f64),
+                    Vec3::new(1e-9, 2e-9, 3e-9),
+                    UnitQuaternion::identity(),
+                    3e-3,
+                );
+            }
+        }
+        b
+    }
+
+    #[test]
+    fn arc_pressure_is_balanced_and_its_resultant_is_that_of_eq_47() {
+        let b = ring();
+        let all: Vec<u32> = (0..b.len() as u32).collect();
+        let alpha = 10f64.to_radians();
+        let arc = ArcPressure::new(&b, &all, [0.1, 0.02, alpha, 2e-4], 1e9);
+        let area = 2.0 * 0.1 * 0.02 * alpha.sin();
+        assert!((arc.area / area - 1.0).abs() < 1e-6, "{}", arc.area / area);
+        let top: Vec3 = arc.force[..arc.top].iter().sum();
+        let bottom: Vec3 = arc.force[arc.top..].iter().sum();
+        // Each arc: 2 R t sin α along the inward y (midpoint sums of sin and cos).
+        assert!(
+            (top + Vec3::new(0.0, area, 0.0)).norm() < 1e-6 * area,
+            "{top}"
+        );
+        assert!(
+            (bottom - Vec3::new(0.0, area, 0.0)).norm() < 1e-6 * area,
+            "{bottom}"
+        );
+        assert!((top + bottom).norm() < 1e-15, "{}", top + bottom);
+        let moment: Vec3 = arc
+            .elements
+            .iter()
+            .zip(arc.force.iter().zip(&arc.moment))
+            .map(|(&i, (f, m))| b.pos[i as usize].cross(f) + m)
+            .sum();
+        assert!(moment.norm() < 1e-15, "{moment}");
+    }
+
+    #[test]
+    fn the_servo_loads_k_times_the_lag_and_the_support_leaves_nothing_to_turn_the_disc() {
+        let mut b = ring();
+        let all: Vec<u32> = (0..b.len() as u32).collect();
+        let mut arc = ArcPressure::new(&b, &all, [0.1, 0.02, 10f64.to_radians(), 2e-4], 1e9);
+        // The top arc's elements 2 µm down, the bottom's 1 µm up: 3 µm closed.
+        for k in 0..arc.elements.len() {
+            b.pos[arc.elements[k] as usize].y += if k < arc.top { -2e-6 } else { 1e-6 };
+        }
+        let mut forces = Forces::new(b.len());
+        // An unbalanced extra force and torque on one element, as the lattice's own.
+        forces.force[5] = Vec3::new(3.0, -1.0, 2.0);
+        forces.torque[5] = Vec3::new(0.1, 0.2, -0.3);
+        arc.apply(&b, &mut forces, 10e-6);
+        assert!((arc.closure[0] - 2e-6).abs() < 1e-12, "{:?}", arc.closure);
+        assert!((arc.closure[1] - 1e-6).abs() < 1e-12, "{:?}", arc.closure);
+        assert!((arc.load - 1e9 * 7e-6).abs() < 1e-6, "{}", arc.load);
+        let applied: f64 =
+            arc.force[..arc.top].iter().map(|f| f.y).sum::<f64>() * arc.load / arc.area;
+        assert!((applied + arc.load).abs() < 1e-9, "{applied}");
+        let mass: f64 = b.mass.iter().sum();
+        let centre: Vec3 = (0..b.len()).map(|i| b.pos[i] * b.mass[i]).sum::<Vec3>() / mass;
+        let net: Vec3 = forces.force.iter().sum();
+        let turn: Vec3 = (0..b.len())
+            .map(|i| (b.pos[i] - centre).cross(&forces.force[i]))
+            .sum();
+        let spin: Vec3 = forces.torque.iter().sum();
+        assert!(net.norm() < 1e-9, "{net}");
+        assert!(turn.norm() < 1e-9, "{turn}");
+        assert!(spin.norm() < 1e-12, "{spin}");
+        assert!(arc.held_moment > 0.1, "{}", arc.held_moment);
     }
 
     #[test]

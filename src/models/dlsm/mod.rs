@@ -33,7 +33,7 @@ use crate::sample::voronoi::{BOX_FACES, Boundary, Domain};
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::shape::polyhedron::Polyhedron;
 use crate::state::{Bodies, Forces, Vec3};
-use loading::{Brazilian, DlsmLoading, Drop, FreeVibration, RowInputs, Tension};
+use loading::{ArcPressure, Brazilian, DlsmLoading, Drop, FreeVibration, RowInputs, Tension};
 use sample::{DlsmSample, DlsmSampleInfo};
 use scene::{DlsmScene, LoadBy, LoadingKind, VibrationMode};
 
@@ -58,6 +58,11 @@ pub const ENERGY_GROWTH_LIMIT: f64 = 4.0;
 const DEFAULT_RAMP: f64 = 0.1;
 /// Default `stop_fraction` with fracture.
 const DEFAULT_STOP: f64 = 0.2;
+/// Radius of the curved jaws over the disc's radius: the ISRM suggested method's 1.5.
+pub const JAW_RADIUS: f64 = 1.5;
+/// Default servo stiffness of the arcs' pressure, over E t: about 30 times the diametral
+/// stiffness of the 20° disc (0.34 E t), so that the closure follows the command.
+const SERVO_STIFFNESS: f64 = 10.0;
 
 /// Where and when the first contact broke.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
@@ -179,6 +184,13 @@ impl Dlsm {
         for g in ground.iter().chain(platens) {
             let lightest = bodies.mass.iter().copied().fold(f64::INFINITY, f64::min);
             dt_limit = dt_limit.min((lightest / g.stiffness).sqrt());
+        }
+        if let DlsmLoading::Brazilian(Brazilian {
+            pressure: Some(arc),
+            ..
+        }) = &loading
+        {
+            dt_limit = dt_limit.min(arc.step_bound(bodies));
         }
         let dt = match scene.time.dt {
             DtSpec::Auto => scene.time.safety * dt_limit,
@@ -378,6 +390,19 @@ impl Dlsm {
                             m.insert("main_crack_start_offset".into(), offset(p).into());
                         }
                     }
+                }
+                // The crack's path, once the disc has split: the share of the broken contacts
+                // within a tenth of D of the loaded (y) diameter.
+                if st.stopped {
+                    let near = st
+                        .break_log
+                        .iter()
+                        .filter(|(_, p)| p.x.abs() < 0.1 * diameter)
+                        .count();
+                    m.insert(
+                        "crack_band_fraction".into(),
+                        (near as f64 / st.break_log.len() as f64).into(),
+                    );
                 }
             }
         }
@@ -788,37 +813,73 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             let speed = l.speed.expect("validated");
             let end = l.end_strain.expect("validated");
             let gap = mean(&top, 1) - mean(&bottom, 1);
-            // Flat platens: planes resting on the highest and lowest vertex of the disc,
-            // their contacts as stiff as a cohesive contact of a mean element (E S / L0 with
-            // S = L0² = the element size squared) unless material.contact_stiffness says
-            // otherwise, with the material's friction.
-            let (platens, platen_start) = if l.load_by == Some(LoadBy::FlatPlatens) {
-                let (lowest, highest) = extent_along(s, &Vec3::y());
+            // Flat platens, or jaws of radius JAW_RADIUS R about z, touching the disc's
+            // highest and lowest vertices, their contacts as stiff as a cohesive contact of a
+            // mean element (E S / L0 with S = L0² = the element size squared) unless
+            // material.contact_stiffness says otherwise, with the material's friction.
+            let by = l.load_by.unwrap_or(LoadBy::Elements);
+            let platens = if matches!(by, LoadBy::FlatPlatens | LoadBy::CurvedJaws) {
                 let m = &cfg.material;
                 let k = m.contact_stiffness.unwrap_or(m.young * s.info.element_size);
                 let n = s.bodies.len();
-                let plane = |y: f64, up: f64| {
-                    GroundContact::new(
-                        Vec3::new(0.0, y, 0.0),
-                        Vec3::new(0.0, up, 0.0),
-                        k,
-                        m.friction,
-                        n,
-                    )
-                };
-                (
-                    vec![plane(highest, -1.0), plane(lowest, 1.0)],
-                    [highest, lowest],
+                [-1.0, 1.0]
+                    .map(|up| {
+                        let g = GroundContact::new(
+                            Vec3::zeros(),
+                            Vec3::new(0.0, up, 0.0),
+                            k,
+                            m.friction,
+                            n,
+                        );
+                        let mut g = if by == LoadBy::CurvedJaws {
+                            g.cylinder(JAW_RADIUS * radius, Vec3::z())
+                        } else {
+                            g
+                        };
+                        g.place_touching(vertices(s));
+                        g
+                    })
+                    .to_vec()
+            } else {
+                Vec::new()
+            };
+            let platen_start = match platens.as_slice() {
+                [top, bottom] => [top.point.y, bottom.point.y],
+                _ => [0.0; 2],
+            };
+            let pressure = (by == LoadBy::ArcPressure).then(|| {
+                // Who may hold a point of the arcs: the elements with a face on the curved
+                // wall within the arc or three elements beyond it.
+                let reach = half_angle + 3.0 * s.info.element_size / radius;
+                let mut near: Vec<u32> = s
+                    .boundary
+                    .iter()
+                    .filter(|f| {
+                        f.boundary == Boundary::Curved
+                            && f.centroid.x.atan2(f.centroid.y.abs()).abs() <= reach
+                    })
+                    .map(|f| f.element)
+                    .collect();
+                near.sort_unstable();
+                near.dedup();
+                let stiffness = l
+                    .servo_stiffness
+                    .unwrap_or(SERVO_STIFFNESS * cfg.material.young * thickness);
+                // Sampled every 1/40 of an element: its share of the arc to about 2.5%.
+                let spacing = s.info.element_size / 40.0;
+                ArcPressure::new(
+                    &s.bodies,
+                    &near,
+                    [radius, thickness, half_angle, spacing],
+                    stiffness,
                 )
-            } else {
-                (Vec::new(), [0.0; 2])
+            });
+            let gap = match (&pressure, platens.is_empty()) {
+                (Some(_), _) => diameter,
+                (None, true) => gap,
+                (None, false) => platen_start[0] - platen_start[1],
             };
-            let gap = if platens.is_empty() {
-                gap
-            } else {
-                platen_start[0] - platen_start[1]
-            };
-            let (top, bottom) = if platens.is_empty() {
+            let (top, bottom) = if by == LoadBy::Elements {
                 (top, bottom)
             } else {
                 (Vec::new(), Vec::new())
@@ -840,6 +901,7 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
                 tensile_strength: strength,
                 platens,
                 platen_start,
+                pressure,
             })
         }
         LoadingKind::Drop => {
@@ -882,16 +944,18 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
     })
 }
 
+/// The sample's element vertices where they are.
+fn vertices(s: &DlsmSample) -> impl Iterator<Item = Vec3> + '_ {
+    s.shapes.iter().enumerate().flat_map(move |(i, shape)| {
+        let (x, r) = (s.bodies.pos[i], s.bodies.orientation[i]);
+        shape.vertices.iter().map(move |v| x + r * v)
+    })
+}
+
 /// The lowest and highest projection of the sample's element vertices on `direction`.
 fn extent_along(s: &DlsmSample, direction: &Vec3) -> (f64, f64) {
-    let (mut lowest, mut highest) = (f64::INFINITY, f64::NEG_INFINITY);
-    for (i, shape) in s.shapes.iter().enumerate() {
-        let r = s.bodies.orientation[i];
-        for v in &shape.vertices {
-            let h = direction.dot(&(s.bodies.pos[i] + r * v));
-            lowest = lowest.min(h);
-            highest = highest.max(h);
-        }
-    }
-    (lowest, highest)
+    vertices(s).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+        let h = direction.dot(&p);
+        (lo.min(h), hi.max(h))
+    })
 }

@@ -143,6 +143,21 @@ pub enum LoadBy {
     Elements,
     /// Two rigid flat platens pressed onto the disc.
     FlatPlatens,
+    /// Two rigid curved jaws of radius 1.5 R (the ISRM's) pressed onto the disc.
+    CurvedJaws,
+    /// A uniform radial pressure over the loading arcs, set by a servo on their closure.
+    ArcPressure,
+}
+
+impl LoadBy {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LoadBy::Elements => "elements",
+            LoadBy::FlatPlatens => "flat_platens",
+            LoadBy::CurvedJaws => "curved_jaws",
+            LoadBy::ArcPressure => "arc_pressure",
+        }
+    }
 }
 
 #[derive(Debug, Clone, Deserialize)]
@@ -162,10 +177,14 @@ pub struct LoadingSpec {
     /// Loading arc 2α (degrees) of the Brazilian test; 0 loads the top and bottom elements.
     pub arc_degrees: Option<f64>,
     /// How a Brazilian disc is loaded: "elements" (prescribed speeds on the elements of the
-    /// loading arcs, the default) or "flat_platens" (two rigid flat platens, touching the
-    /// disc's elements through frictional contacts, driven at `speed`; the force is read on
-    /// them).
+    /// loading arcs, the default), "flat_platens" or "curved_jaws" (two rigid platens, or
+    /// jaws of radius 1.5 R, touching the disc's elements through frictional contacts,
+    /// driven at `speed`; the force is read on them) or "arc_pressure" (a uniform radial
+    /// pressure over the loading arcs, set by a servo on their closure commanded at
+    /// `speed`).
     pub load_by: Option<LoadBy>,
+    /// Stiffness (N/m) of the servo of `load_by = "arc_pressure"`, > 0.
+    pub servo_stiffness: Option<f64>,
     /// With `fracture`: the run ends once the load has fallen below this fraction of its
     /// peak (0: never early).
     pub stop_fraction: Option<f64>,
@@ -386,20 +405,47 @@ fn validate_loading(s: &Scene, l: &LoadingSpec) -> Result<()> {
             check(s, "loading.speed", v, Range::POSITIVE, "m/s")?;
             let end = require(s, "loading.end_strain", l.end_strain, &why)?;
             check(s, "loading.end_strain", end, Range::open(0.0, 1.0), "")?;
-            if let Some(a) = l.arc_degrees {
-                check(
-                    s,
-                    "loading.arc_degrees",
-                    a,
-                    Range::closed(0.0, 90.0),
-                    "degrees",
-                )?;
-                if a > 0.0 && l.load_by == Some(LoadBy::FlatPlatens) {
+            let arc = l.arc_degrees.unwrap_or(0.0);
+            check(
+                s,
+                "loading.arc_degrees",
+                arc,
+                Range::closed(0.0, 90.0),
+                "degrees",
+            )?;
+            let by = l.load_by.unwrap_or(LoadBy::Elements);
+            match by {
+                LoadBy::FlatPlatens | LoadBy::CurvedJaws if arc > 0.0 => {
                     return Err(s.key_error(
-                        "loading.load_by",
-                        format!("= \"flat_platens\" presses flat platens, which have no loading arc: leave loading.arc_degrees out or 0 (it is {a})"),
+                        "loading.arc_degrees",
+                        format!(
+                            "= {arc} is outside the allowed range [0, 0] degrees with loading.load_by = \"{}\", whose contact makes its own arc: leave it out or 0",
+                            by.as_str()
+                        ),
                     ));
                 }
+                LoadBy::ArcPressure if arc <= 0.0 => {
+                    return Err(s.key_error(
+                        "loading.arc_degrees",
+                        "is 0, and loading.load_by = \"arc_pressure\" spreads its pressure over the loading arc: give it in the allowed range (0, 90] degrees",
+                    ));
+                }
+                _ => {}
+            }
+            match (l.servo_stiffness, by) {
+                (Some(k), LoadBy::ArcPressure) => {
+                    check(s, "loading.servo_stiffness", k, Range::POSITIVE, "N/m")?;
+                }
+                (Some(_), _) => {
+                    return Err(s.key_error(
+                        "loading.servo_stiffness",
+                        format!(
+                            "applies to loading.load_by = \"arc_pressure\", not \"{}\"",
+                            by.as_str()
+                        ),
+                    ));
+                }
+                (None, _) => {}
             }
         }
         LoadingKind::Drop => {
