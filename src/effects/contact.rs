@@ -82,7 +82,6 @@ pub struct ContactRecord {
     pub force: Vec3,
     /// Normal force (N), its elastic (Hertz) part (N), and the Hertz contact radius (m).
     pub normal_force: f64,
-    #[serde(default)]
     pub hertz_force: f64,
     pub radius: f64,
     /// Normal contact stiffness 2 E* a (N/m).
