@@ -102,6 +102,7 @@ fn at(s: &Value, key: &str, strain: &str) -> f64 {
 }
 
 fn main() {
+    fractum::output::figure::register_font();
     let bin = std::env::var_os("FRACTUM_BIN").map_or_else(
         || PathBuf::from(env!("CARGO_BIN_EXE_fractum")),
         PathBuf::from,

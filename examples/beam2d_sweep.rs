@@ -75,6 +75,7 @@ fn run(file: &str, seed: u64, strain: f64, bending: f64) -> Beam2dRun {
 }
 
 fn main() {
+    fractum::output::figure::register_font();
     let start = Instant::now();
     let mut settings: Vec<(f64, f64)> = Vec::new();
     for &e in &STRAIN {

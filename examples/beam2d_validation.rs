@@ -64,6 +64,7 @@ fn two_at_a_time<T: Send>(jobs: Vec<Box<dyn FnOnce() -> T + Send>>) -> Vec<T> {
 }
 
 fn main() {
+    fractum::output::figure::register_font();
     std::fs::create_dir_all(img("")).unwrap();
     moduli().unwrap();
     compression().unwrap();

@@ -121,6 +121,7 @@ fn columns(run: &DlsmRun, x: &str, y: &str) -> Vec<(f64, f64)> {
 }
 
 fn main() {
+    fractum::output::figure::register_font();
     let cases: Vec<String> = std::env::args().skip(1).collect();
     for case in &cases {
         eprintln!("== {case}");

@@ -8,6 +8,7 @@
 //! writes series.csv, summary.json, VTK snapshots and checkpoints for any run.
 //! SI units throughout. See docs/architecture.md for the map of the code.
 
+pub mod accuracy;
 pub mod bond;
 pub mod contact;
 pub mod driver;

@@ -73,8 +73,12 @@ enum Command {
         #[arg(long = "set", value_name = "KEY=VALUE")]
         set: Vec<String>,
     },
-    /// Time particle-steps per second on dense packings (prints figures, asserts nothing).
+    /// Time particle-steps per second on dense packings (prints figures, asserts nothing);
+    /// `fractum bench accuracy`: what accuracy costs, for every validation case.
+    #[command(args_conflicts_with_subcommands = true)]
     Bench {
+        #[command(subcommand)]
+        what: Option<BenchWhat>,
         /// Packing sizes.
         #[arg(long, value_delimiter = ',', default_values_t = [1000usize, 8000])]
         bodies: Vec<usize>,
@@ -84,6 +88,31 @@ enum Command {
         /// Timed steps per case.
         #[arg(long, default_value_t = 2000)]
         steps: u64,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchWhat {
+    /// What accuracy costs: each validation case with a reference swept over its resolution
+    /// (grains, cells, polygons) and time step, on 1 and 2 threads. Writes
+    /// accuracy_cost.csv (case, knobs, error, wall seconds, threads), accuracy_report.md and
+    /// accuracy_cost.svg/.png (error against wall seconds, log-log) into --out. The full
+    /// sweep takes hours on two cores; --quick runs a small one in a couple of minutes.
+    Accuracy {
+        /// Cases to run (default: all), e.g. hertz_impact dlsm_tensile.
+        cases: Vec<String>,
+        /// A small sweep of reduced sizes.
+        #[arg(long)]
+        quick: bool,
+        /// Output folder.
+        #[arg(long, default_value = "out/accuracy")]
+        out: PathBuf,
+        /// Thread counts.
+        #[arg(long, value_delimiter = ',', default_values_t = [1usize, 2])]
+        threads: Vec<usize>,
+        /// No progress bar and no messages.
+        #[arg(long)]
+        quiet: bool,
     },
 }
 
@@ -185,6 +214,18 @@ fn dispatch(command: Command) -> Result<(), Error> {
             Ok(())
         }
         Command::Bench {
+            what:
+                Some(BenchWhat::Accuracy {
+                    cases,
+                    quick,
+                    out,
+                    threads,
+                    quiet,
+                }),
+            ..
+        } => accuracy(&cases, quick, &out, threads, quiet),
+        Command::Bench {
+            what: None,
             bodies,
             threads,
             steps,
@@ -197,6 +238,79 @@ fn dispatch(command: Command) -> Result<(), Error> {
             Ok(())
         }
     }
+}
+
+/// `fractum bench accuracy`: the sweep with a progress bar (or a line per run when stderr is
+/// not a terminal), its table, report and figure written into `out` after each case.
+fn accuracy(
+    names: &[String],
+    quick: bool,
+    out: &std::path::Path,
+    threads: Vec<usize>,
+    quiet: bool,
+) -> Result<(), Error> {
+    use fractum::accuracy::{self, Event, Options};
+    let all = fractum::models::accuracy_cases();
+    let cases = accuracy::select(&all, names)?;
+    accuracy::check_threads(&threads)?;
+    let options = Options { quick, threads };
+    let bar = (!quiet && std::io::stderr().is_terminal()).then(|| {
+        let bar = ProgressBar::new(0);
+        bar.set_style(
+            ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} runs  {msg}")
+                .expect("valid template")
+                .progress_chars("=> "),
+        );
+        bar
+    });
+    let say = messenger(quiet || bar.is_some());
+    let describe = |case: &str, s: &accuracy::Setting, threads: usize| match s.resolution {
+        Some(r) => format!("{case} {r} / {} on {threads} thread(s)", s.step),
+        None => format!("{case} {} on {threads} thread(s)", s.step),
+    };
+    let mut progress = |e: Event| match e {
+        Event::Start {
+            case,
+            setting,
+            threads,
+            total,
+        } => {
+            if let Some(bar) = &bar {
+                bar.set_length(total as u64);
+                bar.set_message(describe(case.name, setting, threads));
+            }
+        }
+        Event::Done(row) => {
+            let error = row
+                .error
+                .map(|e| format!("error {e:.3e}"))
+                .unwrap_or_else(|| row.note.clone());
+            let line = format!(
+                "{}: {error}, {} s",
+                describe(row.case, &row.setting, row.threads),
+                accuracy::seconds(row.wall_seconds)
+            );
+            match &bar {
+                Some(bar) => {
+                    bar.inc(1);
+                    bar.println(line);
+                }
+                None => say(&line),
+            }
+        }
+    };
+    let mut written = |rows: &[accuracy::Row]| accuracy::write_outputs(out, &cases, rows, quick);
+    let rows = accuracy::sweep(&cases, &options, &mut progress, &mut written)?;
+    if let Some(bar) = &bar {
+        bar.finish_and_clear();
+    }
+    accuracy::write_outputs(out, &cases, &rows, quick)?;
+    print!("{}", accuracy::report(&cases, &rows, quick));
+    say(&format!(
+        "outputs in {} (accuracy_cost.csv, accuracy_report.md, accuracy_cost.svg, accuracy_cost.png)",
+        out.display()
+    ));
+    Ok(())
 }
 
 /// Prints one-line notes to stderr unless quiet.

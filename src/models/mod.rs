@@ -275,6 +275,14 @@ pub fn build(
     (model_of(&scene)?.build)(scene, threads, progress)
 }
 
+/// Every model's cases of `fractum bench accuracy`, model by model.
+pub fn accuracy_cases() -> Vec<crate::accuracy::Case> {
+    let mut cases = granular::accuracy::cases();
+    cases.extend(dlsm::accuracy::cases());
+    cases.extend(beam2d::accuracy::cases());
+    cases
+}
+
 /// Restores a run from the state [`Run::save_state`] wrote for this scene.
 pub fn restore(scene: Scene, state: &[u8], threads: usize) -> Result<Box<dyn Run>> {
     (model_of(&scene)?.restore)(scene, state, threads)

@@ -2,6 +2,8 @@
 //! the same folder and renamed into place, so a reader never sees half a file.
 
 pub mod checkpoint;
+// Figures: SVG and PNG with the compiled-in font.
+pub mod figure;
 pub mod sealed;
 pub mod vtk;
 // beam2d: polygons and beams for ParaView.

@@ -13,6 +13,7 @@
 //! breaking; the moduli test stretches the sample, then starts again from the same initial
 //! state and compresses it.
 
+pub mod accuracy;
 pub mod bench;
 mod explain;
 pub mod loading;

@@ -14,6 +14,7 @@
 //! Only the effects the scene lists are built: without `fracture` no contact can break and
 //! no polyhedron contact is looked for; without `contact` there is no ground.
 
+pub mod accuracy;
 pub mod bench;
 mod explain;
 pub mod loading;

@@ -11,6 +11,7 @@
 //! at output steps          stability estimate (and, with fracture, a shorter step)
 //! ```
 
+pub mod accuracy;
 pub mod bench;
 mod explain;
 pub mod export;
