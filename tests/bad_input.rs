@@ -486,3 +486,27 @@ fn damaged_checkpoints_are_refused() {
     std::fs::write(&damaged, &bytes).unwrap();
     common::resume(dir.path(), &damaged, &out);
 }
+
+#[test]
+fn a_packing_that_jams_names_the_key_to_change() {
+    // 50 spheres in a box, with their loose layer along the walls, do not reach 0.64 (random
+    // close packing in bulk).
+    fails(
+        &replace(&base(), "solid_fraction = 0.5", "solid_fraction = 0.64"),
+        &[],
+        &["sample.solid_fraction = 0.640 could not be reached", "jammed at about 0."],
+    );
+    // dlsm places its Voronoi seeds on a packing at solid fraction 0.5, which 20 spheres in the
+    // tensile bar's box do not reach: the message names the element count, not a fraction the
+    // user never set.
+    let dlsm = std::fs::read_to_string(common::repo().join("scenes/dlsm_tensile.toml")).unwrap();
+    fails(
+        &replace(&dlsm, "elements = 11000", "elements = 20"),
+        &[],
+        &[
+            "sample.elements = 20 cannot seed the Voronoi cells",
+            "below the 0.5 the seeds are placed at",
+            "ask for more elements",
+        ],
+    );
+}

@@ -33,13 +33,22 @@ const MIN_GROWTH: f64 = 1e-5;
 const SWEEPS_PER_STAGE: usize = 2_000;
 const MAX_FINAL_SWEEPS: usize = 20_000;
 
+/// Why [`pack_geometric`] failed: the spheres jammed before they reached their full radii.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jammed {
+    /// Solid fraction of the spheres at their full radii in the box.
+    pub target: f64,
+    /// About where they jammed.
+    pub reached: f64,
+}
+
 /// Places spheres of `radii` in the box [lo, hi] without overlaps.
 pub fn pack_geometric(
     radii: &[f64],
     lo: Vec3,
     hi: Vec3,
     rng: &mut ChaCha8Rng,
-) -> Result<(Vec<Vec3>, PackReport), String> {
+) -> Result<(Vec<Vec3>, PackReport), Jammed> {
     let size = hi - lo;
     let mut pos: Vec<Vec3> = radii
         .iter()
@@ -88,10 +97,10 @@ pub fn pack_geometric(
             // Too big a step for the crowding reached: go back and grow more gently.
             growth = 1.0 + 0.5 * (growth - 1.0);
             if growth - 1.0 < MIN_GROWTH {
-                return Err(format!(
-                    "= {phi:.3} could not be reached: the spheres jammed at about {:.3} (the loose layer along the walls lowers what small samples reach); lower it, use more spheres, or compact to a pressure instead",
-                    phi * settled.powi(3)
-                ));
+                return Err(Jammed {
+                    target: phi,
+                    reached: phi * settled.powi(3),
+                });
             }
         }
         scale = (settled * growth).min(1.0);

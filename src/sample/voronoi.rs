@@ -242,7 +242,12 @@ pub fn packing_seeds(
             (hi - lo).min()
         ));
     }
-    let (pos, _) = pack_geometric(&radii, lo, hi, rng)?;
+    let (pos, _) = pack_geometric(&radii, lo, hi, rng).map_err(|j| {
+        format!(
+            "cannot seed the Voronoi cells: {count} spheres in the domain's bounding box jammed at solid fraction {:.3}, below the {SOLID_FRACTION} the seeds are placed at (small samples pack looser along the walls); ask for more elements or use sample.method = \"noisy_grid\"",
+            j.reached
+        )
+    })?;
     let kept: Vec<Vec3> = pos
         .into_iter()
         .zip(&radii)

@@ -226,7 +226,15 @@ fn random_sample(
     ));
     let mut prng = stream(scene.seed, STREAM_POSITIONS);
     let (pos, report) = pack_geometric(&radii, Vec3::zeros(), size, &mut prng)
-        .map_err(|m| scene.key_error("sample.solid_fraction", m))?;
+        .map_err(|j| {
+            scene.key_error(
+                "sample.solid_fraction",
+                format!(
+                    "= {:.3} could not be reached: the spheres jammed at about {:.3} (the loose layer along the walls lowers what small samples reach); lower it, use more spheres, or compact to a pressure instead",
+                    j.target, j.reached
+                ),
+            )
+        })?;
     progress(&format!(
         "packed in {} relaxation sweeps, largest overlap {:.2e} of a radius",
         report.sweeps, report.max_overlap
