@@ -410,7 +410,10 @@ fn main() {
                 for arc in [0.0, 20.0] {
                     let (r, s) = run(
                         "scenes/brazilian.toml",
-                        &[format!("loading.arc_degrees={arc}")],
+                        &[
+                            "loading.load_by=\"elements\"".to_string(),
+                            format!("loading.arc_degrees={arc}"),
+                        ],
                     );
                     record(&format!("brazilian arc={arc}"), pick(&s, BRAZILIAN_KEYS));
                     lines.push((format!("2 alpha = {arc} degrees"), force_curve(&r)));

@@ -187,7 +187,7 @@ fn brazilian_loadings_refuse_keys_that_do_not_go_with_them() {
     fails(
         &b,
         &["--set", "loading.servo_stiffness=1e9"],
-        &["loading.servo_stiffness", "arc_pressure", "elements"],
+        &["loading.servo_stiffness", "arc_pressure", "flat_platens"],
     );
     fails(
         &b,

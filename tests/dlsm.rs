@@ -165,6 +165,7 @@ fn brazilian_test_with_a_20_degree_arc() {
         "scenes/brazilian.toml",
         &[
             "sample.elements=3000",
+            "loading.load_by=\"elements\"",
             "loading.arc_degrees=20",
             "loading.end_strain=0.0026",
         ],
@@ -192,6 +193,34 @@ fn brazilian_test_between_flat_platens_reaches_eq_46() {
     let ratio = get(&s, "peak_force") / get(&s, "theory_force");
     assert!((ratio - 1.0).abs() < 0.05, "{s}");
     assert!(s["stopped_after_failure"].as_bool().unwrap(), "{s}");
+}
+
+#[test]
+fn platens_need_no_element_on_the_unused_loading_arcs() {
+    // 1500 cells leave no element with a face within half an element of the top of the disc,
+    // which only the driven-element loading pushes; the platens and jaws find their contacts
+    // themselves, so the disc builds and loads (it was refused at build, the accuracy sweep
+    // lost its 1500-cell settings). The driven loading still refuses it.
+    for by in ["flat_platens", "curved_jaws"] {
+        let load_by = format!("loading.load_by=\"{by}\"");
+        let (_, s) = run_scene(
+            "scenes/brazilian.toml",
+            &["sample.elements=1500", &load_by, "loading.end_strain=2e-5"],
+            1,
+        );
+        assert_eq!(s["load_by"], by);
+        assert!(get(&s, "peak_force") > 0.0, "{s}");
+    }
+    let refused = DlsmRun::new(
+        scene(
+            "scenes/brazilian.toml",
+            &["sample.elements=1500", "loading.load_by=\"elements\""],
+        ),
+        1,
+        &mut |_| {},
+    );
+    let message = refused.err().expect("refused").to_string();
+    assert!(message.contains("no element on the top loading arc"), "{message}");
 }
 
 #[test]

@@ -809,8 +809,13 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             top.dedup();
             bottom.sort_unstable();
             bottom.dedup();
-            nonempty(&top, "the top loading arc")?;
-            nonempty(&bottom, "the bottom loading arc")?;
+            let by = l.load_by.unwrap_or(LoadBy::Elements);
+            // Prescribed elements and the arc pressure act on elements of the arcs; platens
+            // find what they touch themselves.
+            if !matches!(by, LoadBy::FlatPlatens | LoadBy::CurvedJaws) {
+                nonempty(&top, "the top loading arc")?;
+                nonempty(&bottom, "the bottom loading arc")?;
+            }
             let speed = l.speed.expect("validated");
             let end = l.end_strain.expect("validated");
             let gap = mean(&top, 1) - mean(&bottom, 1);
@@ -818,7 +823,6 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             // highest and lowest vertices, their contacts as stiff as a cohesive contact of a
             // mean element (E S / L0 with S = L0² = the element size squared) unless
             // material.contact_stiffness says otherwise, with the material's friction.
-            let by = l.load_by.unwrap_or(LoadBy::Elements);
             let platens = if matches!(by, LoadBy::FlatPlatens | LoadBy::CurvedJaws) {
                 let m = &cfg.material;
                 let k = m.contact_stiffness.unwrap_or(m.young * s.info.element_size);
