@@ -395,3 +395,33 @@ fn resumed_fracture_run_continues_bit_for_bit() {
     );
     assert_eq!(read(&whole.join("psd.csv")), read(&out.join("psd.csv")));
 }
+
+#[test]
+fn the_team_follows_the_state_not_how_a_caller_cuts_the_run_into_calls() {
+    // 373 spheres on two threads stay off the worker team (fewer than 1500 per thread) until
+    // the first grain splits into poly-ellipsoids. The choice used to be made once per
+    // `advance` call: a caller that advanced the whole run in one call (the accuracy sweep)
+    // kept the team off to the end, and its "two threads" gave one thread's bits; a caller
+    // that advanced in short calls switched at its next call. Now it is read after every step.
+    use fractum::Run;
+    let sets: Vec<String> = TEAM_SCENE
+        .chunks(2)
+        .map(|kv| kv[1].to_string())
+        .chain(["output.vtk=0".to_string()])
+        .collect();
+    let scene =
+        || fractum::Scene::load(&common::repo().join("scenes/shpb_sand.toml"), &sets).unwrap();
+    let run = |threads: usize, chunk: u64| {
+        let mut r =
+            fractum::models::granular::Simulation::new(scene(), threads, &mut |_| {}).unwrap();
+        while !Run::finished(&r) {
+            Run::advance(&mut r, chunk).unwrap();
+        }
+        Run::summary(&r)
+    };
+    let whole = run(2, u64::MAX);
+    assert!(whole["broken_particles"].as_u64().unwrap() > 10, "{whole}");
+    assert_eq!(whole, run(2, 97), "one call against calls of 97 steps");
+    // And the two-thread run is not the one-thread run (it was, with one call).
+    assert_ne!(whole, run(1, u64::MAX));
+}

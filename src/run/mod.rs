@@ -480,11 +480,37 @@ impl<M: Model> Runner<M> {
         self.threads.count()
     }
 
-    /// Runs `f` on the run's threads (or right here without a pool).
-    pub fn on_threads<R: Send>(&mut self, f: impl FnOnce(&mut Self) -> R + Send) -> R {
+    /// Takes steps with `one` (which returns false when there is none left to take) on the
+    /// run's threads, against one call's [`CallLimits`]. The model's choice of the worker team
+    /// ([`Model::use_team`]) is read again after every step and the threads re-entered when it
+    /// changes (a granular run of spheres gets its first poly-ellipsoid at a split): it follows
+    /// the state, not how the caller cuts its run into `advance` calls. Before, it was read
+    /// once per call: one `advance` over a whole run of spheres that break kept the pieces off
+    /// the team to the end (the accuracy sweep's "two threads" ran on one), and a run's bits
+    /// depended on where its calls began.
+    fn stepping(
+        &mut self,
+        mut one: impl FnMut(&mut Self, &mut Budget) -> Result<bool> + Send,
+    ) -> Result<()> {
         let threads = self.threads.clone();
-        let team = self.model.use_team(threads.count());
-        threads.run(team, || f(self))
+        let limits = self.limits.clone();
+        let mut budget = Budget::start(&limits);
+        loop {
+            let team = self.model.use_team(threads.count());
+            let done = threads.run(team, || -> Result<bool> {
+                loop {
+                    if !one(self, &mut budget)? {
+                        return Ok(true);
+                    }
+                    if self.model.use_team(threads.count()) != team {
+                        return Ok(false);
+                    }
+                }
+            })?;
+            if done {
+                return Ok(());
+            }
+        }
     }
 
     pub fn finished(&self) -> bool {
@@ -499,15 +525,14 @@ impl<M: Model> Runner<M> {
             .step
             .saturating_add(steps)
             .min(self.clock.end_step);
-        self.on_threads(|run| {
-            let limits = run.limits.clone();
-            let mut budget = Budget::start(&limits);
-            while run.clock.step < target && !run.model.stopped() {
-                budget.before_step(&run.clock)?;
-                run.step_by(run.clock.dt);
-                run.after_step()?;
+        self.stepping(|run, budget| {
+            if run.clock.step >= target || run.model.stopped() {
+                return Ok(false);
             }
-            Ok(())
+            budget.before_step(&run.clock)?;
+            run.step_by(run.clock.dt);
+            run.after_step()?;
+            Ok(true)
         })
     }
 
@@ -532,23 +557,22 @@ impl<M: Model> Runner<M> {
             }
             return self.advance(steps.round() as u64);
         }
-        self.on_threads(|run| {
-            // A remainder below this is rounding, not a step to take.
-            let tiny = 1e-9 * run.clock.dt;
-            let limits = run.limits.clone();
-            let mut budget = Budget::start(&limits);
-            while time - run.clock.time > tiny && !run.model.stopped() {
-                budget.before_step(&run.clock)?;
-                let h = (time - run.clock.time).min(run.clock.dt);
-                if time - run.clock.time - h <= tiny {
-                    run.step_by(time - run.clock.time);
-                    run.clock.time = time;
-                } else {
-                    run.step_by(h);
-                }
-                run.after_step()?;
+        // A remainder below this is rounding, not a step to take.
+        let tiny = 1e-9 * self.clock.dt;
+        self.stepping(|run, budget| {
+            if time - run.clock.time <= tiny || run.model.stopped() {
+                return Ok(false);
             }
-            Ok(())
+            budget.before_step(&run.clock)?;
+            let h = (time - run.clock.time).min(run.clock.dt);
+            if time - run.clock.time - h <= tiny {
+                run.step_by(time - run.clock.time);
+                run.clock.time = time;
+            } else {
+                run.step_by(h);
+            }
+            run.after_step()?;
+            Ok(true)
         })
     }
 
