@@ -494,7 +494,10 @@ fn a_packing_that_jams_names_the_key_to_change() {
     fails(
         &replace(&base(), "solid_fraction = 0.5", "solid_fraction = 0.64"),
         &[],
-        &["sample.solid_fraction = 0.640 could not be reached", "jammed at about 0."],
+        &[
+            "sample.solid_fraction = 0.640 could not be reached",
+            "jammed at about 0.",
+        ],
     );
     // dlsm places its Voronoi seeds on a packing at solid fraction 0.5, which 20 spheres in the
     // tensile bar's box do not reach: the message names the element count, not a fraction the

@@ -220,7 +220,10 @@ fn platens_need_no_element_on_the_unused_loading_arcs() {
         &mut |_| {},
     );
     let message = refused.err().expect("refused").to_string();
-    assert!(message.contains("no element on the top loading arc"), "{message}");
+    assert!(
+        message.contains("no element on the top loading arc"),
+        "{message}"
+    );
 }
 
 #[test]

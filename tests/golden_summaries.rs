@@ -52,7 +52,10 @@ const SCENES: &[(&str, &[&str])] = &[
     // About the fewest elements the disc's packing reaches (300 and 400 fail); it takes 3 s
     // of the run. Between the scene's flat platens at four times the speed, until the disc
     // fails and the force has halved (about 1300 broken contacts, 5400 steps).
-    ("brazilian.toml", &["sample.elements=600", "loading.speed=0.4"]),
+    (
+        "brazilian.toml",
+        &["sample.elements=600", "loading.speed=0.4"],
+    ),
     // Past both force peaks (0.057 and 0.085 mm): the grain splits, then a half breaks.
     ("crush_grain.toml", &["loading.end_displacement=0.09e-3"]),
     ("dlsm_tensile.toml", &["sample.elements=300"]),
