@@ -10,7 +10,7 @@ use nalgebra::{Matrix3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
-use super::scene::VibrationMode;
+use super::scene::{LoadBy, VibrationMode};
 use crate::bond::dlsm::rotation_vector;
 use crate::contact::polyhedron::{GroundContact, Surface};
 use crate::probe::Series;
@@ -140,15 +140,15 @@ impl Brazilian {
     }
 
     /// The `loading.load_by` this loading was built from.
-    pub fn load_by(&self) -> &'static str {
+    pub fn load_by(&self) -> LoadBy {
         if self.pressure.is_some() {
-            "arc_pressure"
+            LoadBy::ArcPressure
         } else if self.jaws() {
-            "curved_jaws"
+            LoadBy::CurvedJaws
         } else if !self.platens.is_empty() {
-            "flat_platens"
+            LoadBy::FlatPlatens
         } else {
-            "elements"
+            LoadBy::Elements
         }
     }
 
@@ -480,8 +480,9 @@ impl DlsmLoading {
         let DlsmLoading::Brazilian(l) = self else {
             return;
         };
+        let command = 2.0 * l.travel(t);
         if let Some(arc) = &mut l.pressure {
-            arc.apply(bodies, forces, 2.0 * l.speed * ramp_travel(t, l.ramp_time));
+            arc.apply(bodies, forces, command);
             l.reaction = [arc.load; 2];
             return;
         }
@@ -971,7 +972,7 @@ fn brazilian_summary(l: &Brazilian, series: &Series, out: &mut Map<String, Value
         "loaded_elements".into(),
         (l.top.len() + l.bottom.len() + l.pressure.as_ref().map_or(0, |p| p.elements.len())).into(),
     );
-    out.insert("load_by".into(), l.load_by().into());
+    out.insert("load_by".into(), l.load_by().as_str().into());
     if let Some(arc) = &l.pressure {
         out.insert("servo_stiffness".into(), arc.stiffness.into());
     }

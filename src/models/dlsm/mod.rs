@@ -812,7 +812,7 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             let by = l.load_by.unwrap_or(LoadBy::Elements);
             // Prescribed elements and the arc pressure act on elements of the arcs; platens
             // find what they touch themselves.
-            if !matches!(by, LoadBy::FlatPlatens | LoadBy::CurvedJaws) {
+            if !by.presses() {
                 nonempty(&top, "the top loading arc")?;
                 nonempty(&bottom, "the bottom loading arc")?;
             }
@@ -823,7 +823,7 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
             // highest and lowest vertices, their contacts as stiff as a cohesive contact of a
             // mean element (E S / L0 with S = L0² = the element size squared) unless
             // material.contact_stiffness says otherwise, with the material's friction.
-            let platens = if matches!(by, LoadBy::FlatPlatens | LoadBy::CurvedJaws) {
+            let platens = if by.presses() {
                 let m = &cfg.material;
                 let k = m.contact_stiffness.unwrap_or(m.young * s.info.element_size);
                 let n = s.bodies.len();

@@ -150,6 +150,11 @@ pub enum LoadBy {
 }
 
 impl LoadBy {
+    /// Rigid platens or jaws, which find the elements they touch (no loading arc of their own).
+    pub fn presses(self) -> bool {
+        matches!(self, LoadBy::FlatPlatens | LoadBy::CurvedJaws)
+    }
+
     pub fn as_str(self) -> &'static str {
         match self {
             LoadBy::Elements => "elements",
@@ -415,7 +420,7 @@ fn validate_loading(s: &Scene, l: &LoadingSpec) -> Result<()> {
             )?;
             let by = l.load_by.unwrap_or(LoadBy::Elements);
             match by {
-                LoadBy::FlatPlatens | LoadBy::CurvedJaws if arc > 0.0 => {
+                by if by.presses() && arc > 0.0 => {
                     return Err(s.key_error(
                         "loading.arc_degrees",
                         format!(
