@@ -58,6 +58,26 @@ fn apparent_young_and_poisson_match_the_input_for_seven_poisson_ratios() {
 }
 
 #[test]
+fn table_3_ends_keep_the_lattice_bias_measured_at_full_size() {
+    // Issue 19: at nu = 0.49, -0.8 and -0.95 the apparent E misses the 2% of the input, as
+    // measured at the paper's 11,000 cells and the shipped step (docs/validation.md, Table 3):
+    // -2.55%, -3.6%, -21.6% (the paper: +4.9%, +1.3%, +6.3%), causes stated there (a lattice
+    // bias at 0.49; towards -1 the flutter modes that phi damps, so -0.8 and -0.95 also move
+    // with the step). At the shipped step the error is the lattice's, not its size's: at 1000
+    // cells it stays within 1 percentage point of those figures.
+    for (nu, full_size) in [(0.49, -0.0255), (-0.8, -0.036), (-0.95, -0.216)] {
+        let set = format!("material.poisson={nu}");
+        let (_, s) = run_scene(
+            "scenes/dlsm_tensile.toml",
+            &[&set, "sample.elements=1000"],
+            1,
+        );
+        let e = get(&s, "apparent_young") / 20e9 - 1.0;
+        assert!((e - full_size).abs() < 0.01, "nu {nu}: E error {e}");
+    }
+}
+
+#[test]
 fn tensile_strength_on_random_and_regular_samples() {
     // Random (packing): the first contacts to break are the most stressed ones; the paper
     // found 4% below σf. Regular grid: every x contact carries the same stress and the
