@@ -172,6 +172,9 @@ typedef struct FractumFractureLaw {
   int32_t springs;
   // Cohesive energy G_c (J/m^2), 0 without cohesion.
   double gc;
+  // Nonzero: a grain's Weibull factor scales sigma_c as well as sigma_f (a scene's
+  // `fracture.weibull_on = "both"`); 0: sigma_f only (`"contact"`, the paper's reading).
+  int32_t weibull_sigma_c;
 } FractumFractureLaw;
 
 // Why a grain breaks. kind 0: it does not; 1: Hoek-Brown on its average stress (`stress`,
@@ -576,8 +579,9 @@ enum FractumStatus fractum_kernel_contacts_plane_normal(const double (*points)[3
 
 // Whether free grain `b` breaks, as Fractum checks it after a step: Hoek-Brown on its
 // average stress (of the contact moment `moment`, 9 doubles row-major, N m, and the torque
-// `torque`, 3 doubles, N m; see fractum_kernel_average_stress) with sigma_c times its
-// Weibull factor `strength` (1 without Weibull statistics); else, when `n_critical` >=
+// `torque`, 3 doubles, N m; see fractum_kernel_average_stress) with sigma_c, times its
+// Weibull factor `strength` (1 without Weibull statistics) where `law->weibull_sigma_c`;
+// else, when `n_critical` >=
 // `law->critical_contacts`, the critical contacts (those with a contact tensile stress above
 // `law->sigma_f * strength`) with `critical_points` their first min(n_critical, 3) points
 // (m, largest stress first; may be null when n_critical is 0) spanning a plane and

@@ -185,6 +185,9 @@ pub struct FractumFractureLaw {
     pub springs: i32,
     /// Cohesive energy G_c (J/m^2), 0 without cohesion.
     pub gc: f64,
+    /// Nonzero: a grain's Weibull factor scales sigma_c as well as sigma_f (a scene's
+    /// `fracture.weibull_on = "both"`); 0: sigma_f only (`"contact"`, the paper's reading).
+    pub weibull_sigma_c: i32,
 }
 
 /// Why a grain breaks. kind 0: it does not; 1: Hoek-Brown on its average stress (`stress`,
@@ -957,6 +960,7 @@ fn fracture_params(l: &FractumFractureLaw) -> Result<FractureParams, FractumStat
         sigma_c: l.sigma_c,
         sigma_f: l.sigma_f,
         weibull: None,
+        weibull_sigma_c: l.weibull_sigma_c != 0,
         critical_contacts: l.critical_contacts as usize,
         cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
         ideal_plane: l.ideal_plane != 0,
@@ -997,8 +1001,9 @@ fn trigger_in(t: &FractumTrigger) -> Result<Trigger, FractumStatus> {
 
 /// Whether free grain `b` breaks, as Fractum checks it after a step: Hoek-Brown on its
 /// average stress (of the contact moment `moment`, 9 doubles row-major, N m, and the torque
-/// `torque`, 3 doubles, N m; see fractum_kernel_average_stress) with sigma_c times its
-/// Weibull factor `strength` (1 without Weibull statistics); else, when `n_critical` >=
+/// `torque`, 3 doubles, N m; see fractum_kernel_average_stress) with sigma_c, times its
+/// Weibull factor `strength` (1 without Weibull statistics) where `law->weibull_sigma_c`;
+/// else, when `n_critical` >=
 /// `law->critical_contacts`, the critical contacts (those with a contact tensile stress above
 /// `law->sigma_f * strength`) with `critical_points` their first min(n_critical, 3) points
 /// (m, largest stress first; may be null when n_critical is 0) spanning a plane and
@@ -2149,6 +2154,7 @@ mod tests {
             plane_jitter: i32::from(jitter),
             springs,
             gc: 50.7,
+            weibull_sigma_c: 0,
         }
     }
 
@@ -2158,6 +2164,7 @@ mod tests {
             sigma_c: l.sigma_c,
             sigma_f: l.sigma_f,
             weibull: None,
+            weibull_sigma_c: l.weibull_sigma_c != 0,
             critical_contacts: l.critical_contacts as usize,
             cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
             ideal_plane: l.ideal_plane != 0,
@@ -2194,7 +2201,10 @@ mod tests {
         let mut d = Draw::new(7);
         let mut kinds = [0usize; 3];
         for case in 0..200 {
-            let law = fracture_law(4, d.flag(), d.flag());
+            let law = FractumFractureLaw {
+                weibull_sigma_c: i32::from(d.flag()),
+                ..fracture_law(4, d.flag(), d.flag())
+            };
             let p = params_of(&law);
             let b = random_body(&mut d, case % 2 == 0);
             // Up to 2.5 times the force that fails a sphere in uniaxial compression.

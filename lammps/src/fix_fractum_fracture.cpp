@@ -20,7 +20,8 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 static const char *STYLE = "fix fractum/fracture";
-static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [cohesion KIC N] "
+static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [weibull_on contact|both] "
+                           "[cohesion KIC N] "
                            "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
                            "[seed N] [adapt_dt EVERY] [adapt_omega_dt X]";
 
@@ -104,6 +105,16 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
                    weibull_w, weibull_xm);
       weibull = 1;
       iarg += 3;
+    } else if (key == "weibull_on") {
+      if (iarg + 1 >= narg) error->all(FLERR, "{}: weibull_on needs contact or both", STYLE);
+      std::string on = arg[iarg + 1];
+      if (on == "contact")
+        weibull_sigma_c = 0;
+      else if (on == "both")
+        weibull_sigma_c = 1;
+      else
+        error->all(FLERR, "{}: weibull_on = {} must be contact or both", STYLE, on);
+      iarg += 2;
     } else if (key == "cohesion") {
       kic = num(iarg + 1, "cohesion");
       double n = num(iarg + 2, "cohesion");
@@ -197,6 +208,7 @@ void FixFractumFracture::init()
   law.plane_jitter = plane_jitter;
   law.springs = cohesion ? springs : 0;
   law.gc = 0.0;
+  law.weibull_sigma_c = weibull ? weibull_sigma_c : 0;
   if (cohesion) {
     int status = fractum_kernel_cohesive_energy(kic, pair->young, pair->poisson, &law.gc);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "cohesive_energy", status);

@@ -5,7 +5,7 @@
    cohesive springs. Every decision goes through libfractum's kernels (fractum_kernel_check,
    _split, _bond, _spring), the functions Fractum's own run calls.
 
-   fix ID group fractum/fracture mi M sigma_c S sigma_f S [weibull W XM] [cohesion KIC N]
+   fix ID group fractum/fracture mi M sigma_c S sigma_f S [weibull W XM] [weibull_on contact|both] [cohesion KIC N]
        [critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] [seed N]
        [adapt_dt EVERY] [adapt_omega_dt X]
 
@@ -57,7 +57,8 @@ class FixFractumFracture : public Fix {
   class PairFractumGranular *pair = nullptr;
   FractumFractureLaw law{};
   double mi = 0, sigma_c = 0, sigma_f = 0, weibull_w = 0, weibull_xm = 0, kic = 0;
-  int springs = 0, critical_contacts = 3, ideal_plane = 1, plane_jitter = 0, weibull = 0;
+  int springs = 0, critical_contacts = 3, ideal_plane = 1, plane_jitter = 0, weibull = 0,
+      weibull_sigma_c = 0;
   int cohesion = 0;
   bigint seed = 1;
   bigint adapt_every = 0;    // 0: the step is left alone

@@ -26,7 +26,7 @@ pub mod criteria;
 mod spec;
 pub mod subdivision;
 
-pub use spec::FractureSpec;
+pub use spec::{FractureSpec, WeibullOn};
 
 use nalgebra::{Matrix3, UnitQuaternion};
 use rand::RngExt;
@@ -50,6 +50,9 @@ pub struct FractureParams {
     pub sigma_f: f64,
     /// Weibull modulus and reference radius, with `weibull`.
     pub weibull: Option<(f64, f64)>,
+    /// The Weibull factor scales σc of Hoek–Brown too (`weibull_on = "both"`); it always
+    /// scales the contact tensile strength.
+    pub weibull_sigma_c: bool,
     pub critical_contacts: usize,
     /// Cohesive energy G_c (J/m²) and springs per plane, with `cohesion`.
     pub cohesion: Option<(f64, usize)>,
@@ -74,6 +77,7 @@ impl FractureParams {
             sigma_c: f.sigma_c,
             sigma_f: f.reference_strength.unwrap_or(f64::NAN),
             weibull: weibull.then(|| (f.weibull_modulus, f.reference_radius.unwrap_or(f64::NAN))),
+            weibull_sigma_c: weibull && f.weibull_on == WeibullOn::Both,
             critical_contacts: f.critical_contacts,
             cohesion: cohesion.then(|| {
                 (
@@ -488,7 +492,8 @@ pub fn grain_average_stress(body: &Body, moment: &Matrix3<f64>, torque: &Vec3) -
 
 /// Whether a free grain fails, and why: the per-grain decision of [`GrainFracture::check`].
 /// Hoek–Brown first, on the average stress ([`grain_average_stress`] of the contact moment
-/// `moment` and the torque `torque`) with σc scaled by the grain's Weibull factor `strength`;
+/// `moment` and the torque `torque`) with σc, scaled by the grain's Weibull factor `strength`
+/// where `p.weibull_sigma_c` says so;
 /// then the contacts: `critical` contacts whose tensile stress exceeds σ_fM × `strength`, at
 /// least `critical_contacts` of them, with `points` the first (at most 3) of their points
 /// (largest stress first; world, m) spanning a plane, `top_stress` (Pa) the largest stress.
@@ -505,7 +510,11 @@ pub fn grain_fails(
     top_stress: f64,
 ) -> Option<(Trigger, Criterion, f64)> {
     let stress = grain_average_stress(body, moment, torque);
-    let sigma_c = p.sigma_c * strength;
+    let sigma_c = if p.weibull_sigma_c {
+        p.sigma_c * strength
+    } else {
+        p.sigma_c
+    };
     // Most grains are far from failing: a bound on the principal values first.
     if criteria::hoek_brown_may_fail(&stress, sigma_c, p.mi) {
         let [s1, _, s3] = criteria::principal_compression_values(&stress);

@@ -12,7 +12,8 @@ pub struct FractureSpec {
     #[serde(default = "default_mi")]
     pub mi: f64,
     /// Hoek–Brown compressive strength σ_c (Pa), > 0; default 592 MPa (Fig. 6). With
-    /// `weibull`, the strength of a grain of `reference_radius` with P = 1/e.
+    /// `weibull` and `weibull_on = "both"`, the strength of a grain of `reference_radius` with
+    /// P = 1/e; otherwise every grain's.
     #[serde(default = "default_sigma_c")]
     pub sigma_c: f64,
     /// Tensile strength σ_fM (Pa) of the contact criterion (Eq. 17); with `weibull`, that of
@@ -24,6 +25,12 @@ pub struct FractureSpec {
     /// Weibull modulus w (Eq. 18), > 0; default 1.
     #[serde(default = "default_weibull_modulus")]
     pub weibull_modulus: f64,
+    /// Which strengths the Weibull factor scales (with `weibull`): `"contact"`, the contact
+    /// tensile strength only, as the paper reads (Section 3.2 ties Weibull's statistics to the
+    /// contact strength of Brzesowsky et al. and takes σc and m_i from Hoek and Martin);
+    /// `"both"`, σc of Hoek–Brown as well. Default `"contact"`.
+    #[serde(default)]
+    pub weibull_on: WeibullOn,
     /// Contacts above the tensile strength that break a grain, in [3, 64]; default 3.
     #[serde(default = "default_critical_contacts")]
     pub critical_contacts: usize,
@@ -42,6 +49,26 @@ pub struct FractureSpec {
     /// (Section 3.3.1); default true.
     #[serde(default = "yes")]
     pub plane_jitter: bool,
+}
+
+/// The strengths a grain's Weibull factor scales (`fracture.weibull_on`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum WeibullOn {
+    /// The contact tensile strength σ_fM only (the paper's reading).
+    #[default]
+    Contact,
+    /// The contact tensile strength and Hoek–Brown's σc.
+    Both,
+}
+
+impl WeibullOn {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            WeibullOn::Contact => "contact",
+            WeibullOn::Both => "both",
+        }
+    }
 }
 
 fn default_mi() -> f64 {
@@ -74,6 +101,7 @@ impl Default for FractureSpec {
             reference_strength: None,
             reference_radius: None,
             weibull_modulus: default_weibull_modulus(),
+            weibull_on: WeibullOn::default(),
             critical_contacts: default_critical_contacts(),
             toughness: default_toughness(),
             springs: default_springs(),

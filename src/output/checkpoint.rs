@@ -19,7 +19,9 @@ const OLD_MAGIC: &[u8; 8] = b"FRACTUM\x01";
 /// 5: dlsm states gained the Brazilian platens, the drop's size and the ground's total force.
 /// 6: the ground contact gained its surface (plane or jaw), velocity and reach, the
 /// Brazilian loading its arcs' pressure.
-const FORMAT_VERSION: u32 = 6;
+/// 7: fracture constants gained `weibull_sigma_c`; the size distributions hold each piece's
+/// equivalent diameter of its own volume beside its mass.
+const FORMAT_VERSION: u32 = 7;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {

@@ -96,7 +96,12 @@ fn describe_fracture(scene: &Scene, cfg: &GranularScene) -> String {
         Some((w, xm)) => {
             let _ = write!(
                 s,
-                "; + weibull: both strengths scaled per grain by a Weibull factor (modulus {w}, reference radius {xm:e} m)"
+                "; + weibull: {} scaled per grain by a Weibull factor ln(1/P)^(1/w) (x/x_M)^(-2/w) (modulus {w}, reference radius {xm:e} m)",
+                if p.weibull_sigma_c {
+                    "both strengths (weibull_on = \"both\")"
+                } else {
+                    "the contact tensile strength (weibull_on = \"contact\"; sigma_c the same for every grain)"
+                }
             );
         }
         None => s.push_str("; strengths the same for every grain (no weibull)"),

@@ -846,6 +846,9 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         );
         if let Some((w, xm)) = p.weibull {
             let _ = write!(line, " weibull {w:e} {xm:e}");
+            if p.weibull_sigma_c {
+                line.push_str(" weibull_on both");
+            }
         }
         if let Some((_, ns)) = p.cohesion {
             let _ = write!(line, " cohesion {:e} {ns}", plan.cfg.fracture.toughness);

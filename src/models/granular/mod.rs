@@ -84,7 +84,7 @@ pub struct GranularState {
     /// pieces' masses at the report strains.
     pub fracture: Option<GrainFracture>,
     pub energy: Option<EnergyAccount>,
-    pub psd: Vec<(f64, Vec<f64>)>,
+    pub psd: Vec<(f64, Vec<(f64, f64)>)>,
 }
 
 impl GranularState {
@@ -378,8 +378,8 @@ impl Granular {
         }
     }
 
-    /// The masses of the pieces (grains and fragments held by intact springs), at the start
-    /// and once each report strain is passed.
+    /// The masses and equivalent diameters (of their own volume) of the pieces (grains and
+    /// fragments held by intact springs), at the start and once each report strain is passed.
     fn take_size_distributions(&mut self) {
         let st = &self.state;
         let Some(f) = &st.fracture else {
@@ -395,9 +395,12 @@ impl Granular {
         let Some(at) = due else {
             return;
         };
-        let (labels, count) = f.pieces(st.bodies.len());
-        let masses = crate::probe::fragments::sum_by_component(&labels, count, &st.bodies.mass);
-        self.state.psd.push((at, masses));
+        let n = st.bodies.len();
+        let (labels, count) = f.pieces(n);
+        let sum = |x: &[f64]| crate::probe::fragments::sum_by_component(&labels, count, x);
+        let volumes: Vec<f64> = (0..n).map(|i| st.bodies.volume(i)).collect();
+        let pieces = size_distribution::pieces(&sum(&st.bodies.mass), &sum(&volumes));
+        self.state.psd.push((at, pieces));
     }
 
     /// Breaking grains make pieces smaller than any grain of the sample, and contacts between
@@ -535,13 +538,11 @@ impl Granular {
         }
         let strains = self.report_strains();
         if !strains.is_empty() {
-            let rho = self.cfg.material.density;
             let mut d50 = serde_json::Map::new();
-            for (e, masses) in &self.state.psd {
-                let pieces = size_distribution::pieces(masses, rho);
+            for (e, pieces) in &self.state.psd {
                 d50.insert(
                     format!("{e}"),
-                    size_distribution::median_diameter(&pieces).into(),
+                    size_distribution::median_diameter(pieces).into(),
                 );
             }
             m.insert("median_diameter_at_strain".into(), Value::Object(d50));
@@ -578,14 +579,9 @@ impl Granular {
         if self.state.psd.is_empty() || self.state.fracture.is_none() {
             return None;
         }
-        let rho = self.cfg.material.density;
-        let curves: Vec<Vec<(f64, f64)>> = self
-            .state
-            .psd
-            .iter()
-            .map(|(_, masses)| size_distribution::pieces(masses, rho))
-            .collect();
-        let sieves = size_distribution::sieve_sizes(curves.iter().flatten().map(|p| p.1), 40);
+        let curves: Vec<&Vec<(f64, f64)>> = self.state.psd.iter().map(|(_, p)| p).collect();
+        let sieves =
+            size_distribution::sieve_sizes(curves.iter().flat_map(|c| c.iter().map(|p| p.1)), 40);
         let passing: Vec<Vec<f64>> = curves
             .iter()
             .map(|c| size_distribution::passing(c, &sieves))
