@@ -1,19 +1,24 @@
 //! Particle size distributions as sieve curves: the mass fraction finer than each size.
 //!
-//! A piece's size is its equivalent diameter, that of the sphere of the material's density
-//! and the piece's mass, `(6 m / (π ρ))^(1/3)`: the halves of a split hold their parent's mass
-//! in 90% of its volume, so mass, not volume, is the measure that fracture conserves.
+//! A piece's size is its equivalent diameter, that of the sphere of the piece's own mass and
+//! density, `(6 m / (π ρ_piece))^(1/3) = (6 V / π)^(1/3)`, and the curves weigh pieces by
+//! mass, the measure that fracture conserves. The two differ from a conversion at the nominal
+//! density: the halves of a split hold their parent's mass in 90% of its volume (their
+//! density rises by 1/0.9 per split), so a piece of generation g is (0.9^g)^(1/3) the size the
+//! nominal density would give its mass (0.965 after one split, 0.90 after three).
 
-/// The equivalent diameter (m) of a piece of mass `mass` (kg) and density `density`.
-pub fn equivalent_diameter(mass: f64, density: f64) -> f64 {
-    (6.0 * mass / (std::f64::consts::PI * density)).cbrt()
+/// The equivalent diameter (m) of a piece of volume `volume` (m³): that of the sphere of its
+/// own mass and density.
+pub fn equivalent_diameter(volume: f64) -> f64 {
+    (6.0 * volume / std::f64::consts::PI).cbrt()
 }
 
-/// Pieces of the given masses (kg) as (mass, equivalent diameter) pairs.
-pub fn pieces(masses: &[f64], density: f64) -> Vec<(f64, f64)> {
+/// Pieces of the given masses (kg) and volumes (m³) as (mass, equivalent diameter) pairs.
+pub fn pieces(masses: &[f64], volumes: &[f64]) -> Vec<(f64, f64)> {
     masses
         .iter()
-        .map(|&m| (m, equivalent_diameter(m, density)))
+        .zip(volumes)
+        .map(|(&m, &v)| (m, equivalent_diameter(v)))
         .collect()
 }
 
@@ -64,8 +69,12 @@ mod tests {
     fn sieve_curve_of_two_sizes() {
         let rho = 2650.0;
         let d1: f64 = 0.6e-3;
-        let m1 = std::f64::consts::PI / 6.0 * d1.powi(3) * rho;
-        assert!((equivalent_diameter(m1, rho) / d1 - 1.0).abs() < 1e-12);
+        let v1 = std::f64::consts::PI / 6.0 * d1.powi(3);
+        let m1 = v1 * rho;
+        assert!((equivalent_diameter(v1) / d1 - 1.0).abs() < 1e-12);
+        // A half of a split: half the mass in 0.45 of the volume, 0.45^(1/3) of the diameter.
+        let half = pieces(&[m1 / 2.0], &[0.45 * v1]);
+        assert!((half[0].1 / (0.45f64.cbrt() * d1) - 1.0).abs() < 1e-12);
         // One big grain and eight pieces of an eighth of its mass each: half the mass is fine.
         let mut pieces = vec![(m1, d1)];
         for _ in 0..8 {
