@@ -61,6 +61,31 @@ pub fn median_diameter(pieces: &[(f64, f64)]) -> f64 {
     sorted.last().map_or(0.0, |p| p.1)
 }
 
+/// The modes of a size distribution: the diameters (m, geometric bin centres) where the mass
+/// per log-diameter bin peaks. Bins are `ratio` wide (a diameter d falls in bin
+/// `floor(ln d / ln ratio)`, so every curve of every run shares them); a bin is a mode when it
+/// holds at least `floor` of the mass, more than the bin below and at least as much as the bin
+/// above. Two modes is the bimodal distribution of crushed sand (poly-ellipsoid-fracture-shpb.txt
+/// Fig. 30/31): grains that kept their size, and fragments.
+pub fn modes(pieces: &[(f64, f64)], ratio: f64, floor: f64) -> Vec<f64> {
+    let total: f64 = pieces.iter().map(|p| p.0).sum();
+    if !(total > 0.0 && ratio > 1.0) {
+        return Vec::new();
+    }
+    let width = ratio.ln();
+    let mut mass = std::collections::BTreeMap::<i64, f64>::new();
+    for &(m, d) in pieces {
+        if d > 0.0 && d.is_finite() {
+            *mass.entry((d.ln() / width).floor() as i64).or_default() += m / total;
+        }
+    }
+    let at = |k: i64| mass.get(&k).copied().unwrap_or(0.0);
+    mass.iter()
+        .filter(|&(&k, &f)| f >= floor && f > at(k - 1) && f >= at(k + 1))
+        .map(|(&k, _)| ((k as f64 + 0.5) * width).exp())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -89,5 +114,23 @@ mod tests {
         let pass = passing(&pieces, &[d1 / 2.0, 0.99 * d1, d1]);
         assert!((pass[0] - 0.5).abs() < 1e-12 && pass[1] == pass[0] && pass[2] == 1.0);
         assert!((median_diameter(&pieces) - d1 / 2.0).abs() < 1e-15);
+    }
+
+    #[test]
+    fn modes_of_one_and_of_two_populations() {
+        // Grains of 0.6 mm and fragments of 0.3 mm, a third of the mass: two modes, one in
+        // each population's quarter-octave bin; the grains alone: one.
+        let q = 2f64.powf(0.25);
+        let mut pieces: Vec<(f64, f64)> =
+            (0..20).map(|k| (2.0, 0.58e-3 + 1e-6 * k as f64)).collect();
+        let grains = modes(&pieces, q, 0.03);
+        assert_eq!(grains.len(), 1, "{grains:?}");
+        pieces.extend((0..40).map(|k| (0.5, 0.29e-3 + 1e-6 * k as f64)));
+        let both = modes(&pieces, q, 0.03);
+        assert_eq!(both.len(), 2, "{both:?}");
+        assert!((both[0] / 0.3e-3).ln().abs() < q.ln() && (both[1] / 0.6e-3).ln().abs() < q.ln());
+        // Below the floor a bump is no mode: the fragments hold a third, the grains two.
+        assert_eq!(modes(&pieces, q, 0.5).len(), 1);
+        assert!(modes(&[], q, 0.03).is_empty());
     }
 }

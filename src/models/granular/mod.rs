@@ -546,6 +546,14 @@ impl Granular {
                 );
             }
             m.insert("median_diameter_at_strain".into(), Value::Object(d50));
+            // Modes in quarter-octave bins (0.19 in ln d), a mode holding at least 3% of the
+            // mass.
+            let mut peaks = serde_json::Map::new();
+            for (e, pieces) in &self.state.psd {
+                let at = size_distribution::modes(pieces, 2f64.powf(0.25), 0.03);
+                peaks.insert(format!("{e}"), at.into());
+            }
+            m.insert("size_modes_at_strain".into(), Value::Object(peaks));
         }
         if let Some(e) = &self.state.energy {
             m.insert(
