@@ -538,21 +538,16 @@ impl Granular {
         }
         let strains = self.report_strains();
         if !strains.is_empty() {
-            let mut d50 = serde_json::Map::new();
+            // The mass median and the modes (quarter-octave bins, 0.19 in ln d, a mode holding
+            // at least 3% of the mass) of each distribution.
+            let (mut d50, mut peaks) = (serde_json::Map::new(), serde_json::Map::new());
             for (e, pieces) in &self.state.psd {
-                d50.insert(
-                    format!("{e}"),
-                    size_distribution::median_diameter(pieces).into(),
-                );
-            }
-            m.insert("median_diameter_at_strain".into(), Value::Object(d50));
-            // Modes in quarter-octave bins (0.19 in ln d), a mode holding at least 3% of the
-            // mass.
-            let mut peaks = serde_json::Map::new();
-            for (e, pieces) in &self.state.psd {
+                let median = size_distribution::median_diameter(pieces);
                 let at = size_distribution::modes(pieces, 2f64.powf(0.25), 0.03);
+                d50.insert(format!("{e}"), median.into());
                 peaks.insert(format!("{e}"), at.into());
             }
+            m.insert("median_diameter_at_strain".into(), Value::Object(d50));
             m.insert("size_modes_at_strain".into(), Value::Object(peaks));
         }
         if let Some(e) = &self.state.energy {
