@@ -501,6 +501,52 @@ enum FractumStatus fractum_kernel_pair_placed(const struct FractumContactLaw *la
 enum FractumStatus fractum_kernel_placement(const struct FractumBody *b,
                                             struct FractumPlacement *out);
 
+// How far body `after` may have moved since it was `before` (the same body one drift
+// later; m), added to `*travel`: the centroid's path plus the bounding radius times a bound
+// on the angle turned, as Fractum's contact effect sums each body's motion for the
+// separated pairs' skip (`fractum::effects::contact::travel_step`). `fractum_kernel_pair_row`
+// reads the sums.
+enum FractumStatus fractum_kernel_travel(const struct FractumBody *before,
+                                         const struct FractumBody *after,
+                                         double *travel);
+
+// The contacts of one row of a neighbour list: body `i` of `bodies` (`n_bodies` of them) with
+// each of its `n` candidates `partners[k] & index_mask`, as `fractum_kernel_pair_placed` gives
+// them one by one, in one call. Each pair is computed with the body of the lower `keys` value
+// (a tag) as A, so a pair gives the same bits in whichever row it is found. `places` holds
+// every body's placement (`fractum_kernel_placement`; read with `shapes` on, may be null
+// without). `memory` holds the candidates' records, `stride` doubles apart: a
+// `FractumPairMemory` (7 doubles), then, with `travel` given, the pair's reach (1 double, 0
+// for a new pair; stride >= 8).
+//
+// With `travel` (the bodies' summed motions, `fractum_kernel_travel`; null: off) and `shapes`
+// on, a pair found apart keeps the sum of the travels its bodies must reach before they can
+// touch, and is not searched until they do: Fractum's separated pairs' skip, which changes no
+// result (the search would find the pair apart again).
+//
+// Writes the touching pairs to `out[0..*n_out]` with their candidate's index in `at` (both
+// with room for `n`), and, when `kept` is not null, `kept[k]` = 1 where candidate k's record
+// is not all zeros after the call (what a host keeps between neighbour builds).
+enum FractumStatus fractum_kernel_pair_row(const struct FractumContactLaw *law,
+                                           const struct FractumBody *bodies,
+                                           const struct FractumPlacement *places,
+                                           const int64_t *keys,
+                                           const double *travel,
+                                           int32_t n_bodies,
+                                           int32_t i,
+                                           const int32_t *partners,
+                                           int32_t n,
+                                           int32_t index_mask,
+                                           double *memory,
+                                           int32_t stride,
+                                           double dt,
+                                           int32_t update,
+                                           int32_t shapes,
+                                           int32_t *kept,
+                                           struct FractumContact *out,
+                                           int32_t *at,
+                                           int32_t *n_out);
+
 // The contact of body `a` with the wall through `wall_point` (3 doubles, m) of unit normal
 // `wall_normal` (3 doubles, into the bodies' side) moving at `wall_velocity` (3 doubles,
 // m/s), as Fractum's contact effect computes it (with `shapes` nonzero a poly-ellipsoid's
@@ -702,6 +748,16 @@ enum FractumStatus fractum_kernel_frequency_share(const struct FractumContactLaw
                                                   const struct FractumBody *a,
                                                   const struct FractumBody *b,
                                                   double *share);
+
+// `fractum_kernel_frequency_share` for both bodies of a pair contact `c` at once, each
+// body's load computed once (as Fractum's own estimate does per contact): `share_a` the
+// contact's share of `a`'s row, `share_b` of `b`'s; the same bits as two calls.
+enum FractumStatus fractum_kernel_frequency_shares(const struct FractumContactLaw *law,
+                                                   const struct FractumContact *c,
+                                                   const struct FractumBody *a,
+                                                   const struct FractumBody *b,
+                                                   double *share_a,
+                                                   double *share_b);
 
 // Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
 // largest row of the frequency bound (`fractum_kernel_frequency_share` summed over a body's

@@ -15,13 +15,13 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use fractum::contact::convex::{self, ContactGeometry};
+use fractum::contact::convex::{self, ContactGeometry, Placed};
 use fractum::contact::hertz_mindlin::{
     ContactForce, Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
 };
 use fractum::effects::contact::{
     BodyView, ContactBody, PairMemory, PairOut, Placement, bound_off_wall, bounds_apart, forget,
-    pair_contact, wall_contact,
+    pair_contact, pair_contact_or_gap, pair_reach, skips, travel_step, wall_contact,
 };
 use fractum::fracture::break_plane::{self, Trigger};
 use fractum::fracture::cohesion::{self, Demand, Spring};
@@ -322,6 +322,18 @@ fn points<'a>(p: *const [f64; 3], n: usize) -> Result<&'a [Vec3], FractumStatus>
     Ok(unsafe { std::slice::from_raw_parts(p.cast::<Vec3>(), n) })
 }
 
+/// The caller's `n` elements at `p`, read only (null allowed when `n` is 0).
+fn slice_in<'a, T>(p: *const T, n: usize) -> Result<&'a [T], FractumStatus> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(FRACTUM_ERR_NULL);
+    }
+    // SAFETY: the caller passes n elements, not written during the call.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
 /// The caller's `n` elements at `p` (null allowed when `n` is 0).
 fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], FractumStatus> {
     if n == 0 {
@@ -352,12 +364,13 @@ fn matrix_out(m: &Matrix3<f64>) -> [f64; 9] {
 
 /// The library's body from a FractumBody: the inverse mass and moments as the library makes
 /// them (1/m); a poly-ellipsoid's semi-axes checked.
+#[inline(always)]
 fn body_in(b: &FractumBody) -> Result<Body, FractumStatus> {
     let shape = if b.sphere != 0 {
         Shape::Sphere
     } else {
         Shape::PolyEllipsoid {
-            pe: PolyEllipsoid::new(b.semi).map_err(|_| FRACTUM_ERR_INPUT)?,
+            pe: checked_semi(&b.semi)?,
             origin: Vec3::from(b.origin),
             to_body: quat(&b.to_body),
         }
@@ -705,6 +718,233 @@ fn placement_in(p: &FractumPlacement) -> Placement {
         origin: Vec3::from(p.origin),
         rot: matrix(&p.rot),
     }
+}
+
+/// The C ABI's body as the contact kernels read it, without building a library `Body`: its
+/// kinematics straight from the caller's struct, a poly-ellipsoid by its checked semi-axes and
+/// the placement given (the same bits as [`BodyView`] over `body_in` of it with that
+/// placement).
+struct RawBody<'a> {
+    b: &'a FractumBody,
+    pe: PolyEllipsoid,
+    place: Option<&'a FractumPlacement>,
+}
+
+impl<'a> RawBody<'a> {
+    /// `place` is read only for a poly-ellipsoid with `shapes` on (then it must be given).
+    #[inline(always)]
+    fn new(b: &'a FractumBody, place: Option<&'a FractumPlacement>) -> Result<Self, FractumStatus> {
+        if b.sphere != 0 {
+            return Ok(RawBody {
+                b,
+                pe: PolyEllipsoid { semi: [0.0; 6] },
+                place,
+            });
+        }
+        Ok(RawBody {
+            b,
+            pe: checked_semi(&b.semi)?,
+            place,
+        })
+    }
+}
+
+/// The poly-ellipsoid of semi-axes `semi`, each finite and positive (`PolyEllipsoid::new`'s
+/// test, without its message: the kernels run per contact).
+#[inline(always)]
+fn checked_semi(semi: &[f64; 6]) -> Result<PolyEllipsoid, FractumStatus> {
+    input_if(!semi.iter().all(|v| v.is_finite() && *v > 0.0))?;
+    Ok(PolyEllipsoid { semi: *semi })
+}
+
+impl ContactBody for RawBody<'_> {
+    #[inline(always)]
+    fn pos(&self) -> Vec3 {
+        Vec3::from(self.b.pos)
+    }
+    #[inline(always)]
+    fn vel(&self) -> Vec3 {
+        Vec3::from(self.b.vel)
+    }
+    #[inline(always)]
+    fn omega(&self) -> Vec3 {
+        Vec3::from(self.b.omega)
+    }
+    #[inline(always)]
+    fn mass(&self) -> f64 {
+        self.b.mass
+    }
+    #[inline(always)]
+    fn radius(&self) -> f64 {
+        self.b.radius
+    }
+    #[inline(always)]
+    fn is_sphere(&self) -> bool {
+        self.b.sphere != 0
+    }
+    #[inline(always)]
+    fn placed(&self) -> Placed<'_> {
+        match self.place {
+            Some(p) if self.b.sphere == 0 => {
+                Placed::poly_ellipsoid(&self.pe, Vec3::from(p.origin), matrix(&p.rot))
+            }
+            // Asked for only with shapes on and a poly-ellipsoid in the pair; a missing
+            // placement is refused before (pair_row).
+            _ => Placed::sphere(self.b.radius, Vec3::from(self.b.pos)),
+        }
+    }
+}
+
+/// How far body `after` may have moved since it was `before` (the same body one drift
+/// later; m), added to `*travel`: the centroid's path plus the bounding radius times a bound
+/// on the angle turned, as Fractum's contact effect sums each body's motion for the
+/// separated pairs' skip (`fractum::effects::contact::travel_step`). `fractum_kernel_pair_row`
+/// reads the sums.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_travel(
+    before: *const FractumBody,
+    after: *const FractumBody,
+    travel: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let (from, to) = (get(before)?, get(after)?);
+        let travel = get_mut(travel)?;
+        *travel += travel_step(
+            &Vec3::from(from.pos),
+            &quat(&from.quat),
+            &Vec3::from(to.pos),
+            &quat(&to.quat),
+            to.radius,
+        );
+        Ok(())
+    })
+}
+
+/// The contacts of one row of a neighbour list: body `i` of `bodies` (`n_bodies` of them) with
+/// each of its `n` candidates `partners[k] & index_mask`, as `fractum_kernel_pair_placed` gives
+/// them one by one, in one call. Each pair is computed with the body of the lower `keys` value
+/// (a tag) as A, so a pair gives the same bits in whichever row it is found. `places` holds
+/// every body's placement (`fractum_kernel_placement`; read with `shapes` on, may be null
+/// without). `memory` holds the candidates' records, `stride` doubles apart: a
+/// `FractumPairMemory` (7 doubles), then, with `travel` given, the pair's reach (1 double, 0
+/// for a new pair; stride >= 8).
+///
+/// With `travel` (the bodies' summed motions, `fractum_kernel_travel`; null: off) and `shapes`
+/// on, a pair found apart keeps the sum of the travels its bodies must reach before they can
+/// touch, and is not searched until they do: Fractum's separated pairs' skip, which changes no
+/// result (the search would find the pair apart again).
+///
+/// Writes the touching pairs to `out[0..*n_out]` with their candidate's index in `at` (both
+/// with room for `n`), and, when `kept` is not null, `kept[k]` = 1 where candidate k's record
+/// is not all zeros after the call (what a host keeps between neighbour builds).
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub extern "C" fn fractum_kernel_pair_row(
+    law: *const FractumContactLaw,
+    bodies: *const FractumBody,
+    places: *const FractumPlacement,
+    keys: *const i64,
+    travel: *const f64,
+    n_bodies: i32,
+    i: i32,
+    partners: *const i32,
+    n: i32,
+    index_mask: i32,
+    memory: *mut f64,
+    stride: i32,
+    dt: f64,
+    update: i32,
+    shapes: i32,
+    kept: *mut i32,
+    out: *mut FractumContact,
+    at: *mut i32,
+    n_out: *mut i32,
+) -> FractumStatus {
+    kernel(|| {
+        let law = get(law)?;
+        let n_out = get_mut(n_out)?;
+        *n_out = 0;
+        input_if(n_bodies < 0 || n < 0 || i < 0 || i >= n_bodies)?;
+        let (nb, n) = (n_bodies as usize, n as usize);
+        let skip = !travel.is_null() && shapes != 0;
+        input_if(stride < 7 || (skip && stride < 8))?;
+        let stride = stride as usize;
+        let bodies = slice_in(bodies, nb)?;
+        let keys = slice_in(keys, nb)?;
+        let places = if shapes != 0 {
+            Some(slice_in(places, nb)?)
+        } else {
+            None
+        };
+        let travel = if skip {
+            Some(slice_in(travel, nb)?)
+        } else {
+            None
+        };
+        let partners = slice_in(partners, n)?;
+        let memory = slice_mut(memory, n * stride)?;
+        let out = slice_mut(out, n)?;
+        let at = slice_mut(at, n)?;
+        let mut kept = if kept.is_null() {
+            None
+        } else {
+            Some(slice_mut(kept, n)?)
+        };
+        let k = consts(law);
+        let i = i as usize;
+        let mut count = 0;
+        for (jj, &p) in partners.iter().enumerate() {
+            let j = (p & index_mask) as usize;
+            input_if(j >= nb)?;
+            let (a, b) = if keys[i] > keys[j] { (j, i) } else { (i, j) };
+            let record = &mut memory[jj * stride..(jj + 1) * stride];
+            let (ba, bb) = (&bodies[a], &bodies[b]);
+            let touched = match travel {
+                Some(t) if skips(record[7], t[a], t[b]) => None,
+                _ => {
+                    let (pa, pb) = (Vec3::from(ba.pos), Vec3::from(bb.pos));
+                    let mut hist = Vec3::new(record[0], record[1], record[2]);
+                    let mut m = PairMemory {
+                        normal: Vec3::new(record[3], record[4], record[5]),
+                        radius: record[6],
+                    };
+                    let result = if bounds_apart(&pa, ba.radius, &pb, bb.radius) {
+                        forget(&mut hist, &mut m.radius, law.friction != 0, shapes != 0);
+                        Err((pa - pb).norm() - (ba.radius + bb.radius))
+                    } else {
+                        let place = |x: usize| places.map(|ps| &ps[x]);
+                        let (va, vb) = (RawBody::new(ba, place(a))?, RawBody::new(bb, place(b))?);
+                        variants!(
+                            law.damp != 0,
+                            law.friction != 0,
+                            shapes != 0,
+                            pair_contact_or_gap(&k, &va, &vb, &mut hist, &mut m, dt, update != 0)
+                        )
+                    };
+                    record[..3].copy_from_slice(hist.as_slice());
+                    record[3..6].copy_from_slice(m.normal.as_slice());
+                    record[6] = m.radius;
+                    if let Some(t) = travel {
+                        record[7] = match result {
+                            Ok(_) => 0.0,
+                            Err(gap) => pair_reach(t[a], t[b], gap, ba.radius, bb.radius),
+                        };
+                    }
+                    result.ok()
+                }
+            };
+            if let Some(kept) = kept.as_deref_mut() {
+                kept[jj] = i32::from(record.iter().any(|v| *v != 0.0));
+            }
+            if let Some(p) = touched {
+                out[count] = contact_out(Some(p));
+                at[count] = jj as i32;
+                count += 1;
+            }
+        }
+        *n_out = count as i32;
+        Ok(())
+    })
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -1354,32 +1594,61 @@ pub extern "C" fn fractum_kernel_frequency_share(
         let (law, c, a) = (get(law)?, get(c)?, get(a)?);
         let b = if b.is_null() { None } else { Some(get(b)?) };
         let share = get_mut(share)?;
-        let tangential = if law.friction != 0 {
-            fractum::effects::contact::tangential_ratio(law.eight_g, law.two_e)
-        } else {
-            0.0
-        };
-        let load = |body: &FractumBody| -> Result<f64, FractumStatus> {
-            let inertia = Vec3::from(body.inertia);
-            // NaN fails every comparison: refused with the non-positive values.
-            let positive = |v: f64| v > 0.0;
-            input_if(!positive(body.mass) || !inertia.iter().all(|&m| positive(m)))?;
-            Ok(fractum::effects::contact::contact_load(
-                &Vec3::from(c.point),
-                &Vec3::from(c.normal),
-                c.stiffness,
-                &Vec3::from(body.pos),
-                &quat(&body.quat),
-                1.0 / body.mass,
-                &inertia.map(|m| 1.0 / m),
-                tangential,
-            ))
-        };
-        let own = load(a)?;
-        let other = b.map(load).transpose()?;
+        let own = body_load(law, c, a)?;
+        let other = b.map(|b| body_load(law, c, b)).transpose()?;
         *share = fractum::effects::contact::frequency_share(own, other);
         Ok(())
     })
+}
+
+/// `fractum_kernel_frequency_share` for both bodies of a pair contact `c` at once, each
+/// body's load computed once (as Fractum's own estimate does per contact): `share_a` the
+/// contact's share of `a`'s row, `share_b` of `b`'s; the same bits as two calls.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_frequency_shares(
+    law: *const FractumContactLaw,
+    c: *const FractumContact,
+    a: *const FractumBody,
+    b: *const FractumBody,
+    share_a: *mut f64,
+    share_b: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let (law, c, a, b) = (get(law)?, get(c)?, get(a)?, get(b)?);
+        let (share_a, share_b) = (get_mut(share_a)?, get_mut(share_b)?);
+        let (la, lb) = (body_load(law, c, a)?, body_load(law, c, b)?);
+        *share_a = fractum::effects::contact::frequency_share(la, Some(lb));
+        *share_b = fractum::effects::contact::frequency_share(lb, Some(la));
+        Ok(())
+    })
+}
+
+/// Contact `c`'s load on `body` (`fractum::effects::contact::contact_load`), its mass and
+/// moments checked positive.
+fn body_load(
+    law: &FractumContactLaw,
+    c: &FractumContact,
+    body: &FractumBody,
+) -> Result<f64, FractumStatus> {
+    let tangential = if law.friction != 0 {
+        fractum::effects::contact::tangential_ratio(law.eight_g, law.two_e)
+    } else {
+        0.0
+    };
+    let inertia = Vec3::from(body.inertia);
+    // NaN fails every comparison: refused with the non-positive values.
+    let positive = |v: f64| v > 0.0;
+    input_if(!positive(body.mass) || !inertia.iter().all(|&m| positive(m)))?;
+    Ok(fractum::effects::contact::contact_load(
+        &Vec3::from(c.point),
+        &Vec3::from(c.normal),
+        c.stiffness,
+        &Vec3::from(body.pos),
+        &quat(&body.quat),
+        1.0 / body.mass,
+        &inertia.map(|m| 1.0 / m),
+        tangential,
+    ))
 }
 
 /// Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
@@ -1861,6 +2130,166 @@ mod tests {
         assert!(touching[0] > 200 && touching[1] > 100, "{touching:?}");
     }
 
+    /// A cluster of spheres and poly-ellipsoids moving and turning over many steps, each row
+    /// of its half neighbour list given to the row kernel at once (partners with a flag bit
+    /// the mask removes, tags that put the lower one as A in either row): the contacts and
+    /// memories are `fractum_kernel_pair_placed`'s bit for bit, with the separated pairs'
+    /// skip on (travel summed by `fractum_kernel_travel`) and off, and the skip skips.
+    #[test]
+    fn pair_row_gives_the_pair_kernels_bits_with_and_without_the_skip() {
+        let mut d = Draw::new(21);
+        let (mut skipped, mut touching, mut searched_apart) = (0usize, 0usize, 0usize);
+        for &(damp, fric, poly) in &SWITCHES {
+            let (law, _) = laws(damp, fric, 0.4);
+            let n = 14;
+            let mut bodies: Vec<Body> = (0..n).map(|k| random_body(&mut d, k % 3 == 0)).collect();
+            for b in &mut bodies {
+                b.pos *= 1.6;
+            }
+            // Tags out of index order.
+            let keys: Vec<i64> = (0..n as i64).map(|k| (7 * k + 3) % n as i64).collect();
+            let pairs: Vec<(usize, usize)> = (0..n)
+                .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+                .collect();
+            let mut reference = vec![FractumPairMemory::default(); pairs.len()];
+            let mut with_skip = vec![0.0; 8 * pairs.len()];
+            let mut without = vec![0.0; 7 * pairs.len()];
+            let mut travel = vec![0.0; n];
+            let h = 2e-5;
+            let dt = 2e-8;
+            for step in 0..40 {
+                let update = i32::from(step > 0);
+                let fbs: Vec<FractumBody> = bodies.iter().map(fb).collect();
+                let places: Vec<FractumPlacement> = fbs
+                    .iter()
+                    .map(|b| {
+                        let mut p = FractumPlacement::default();
+                        assert_eq!(fractum_kernel_placement(b, &mut p), FRACTUM_OK);
+                        p
+                    })
+                    .collect();
+                let mut expected = Vec::new();
+                for (slot, &(i, j)) in pairs.iter().enumerate() {
+                    let (a, b) = if keys[i] > keys[j] { (j, i) } else { (i, j) };
+                    let mut c = FractumContact::default();
+                    let s = fractum_kernel_pair_placed(
+                        &law,
+                        &fbs[a],
+                        &places[a],
+                        &fbs[b],
+                        &places[b],
+                        &mut reference[slot],
+                        dt,
+                        update,
+                        i32::from(poly),
+                        &mut c,
+                    );
+                    assert_eq!(s, FRACTUM_OK);
+                    expected.push(c);
+                    if poly && skips(with_skip[8 * slot + 7], travel[a], travel[b]) {
+                        skipped += 1;
+                        assert_eq!(c.touching, 0, "a skipped pair touches");
+                    } else if c.touching == 0 && fbs[a].sphere * fbs[b].sphere == 0 {
+                        searched_apart += 1;
+                    }
+                }
+                let mut first = 0;
+                for i in 0..n {
+                    let row: Vec<usize> = (i + 1..n).collect();
+                    let partners: Vec<i32> = row
+                        .iter()
+                        .map(|&j| j as i32 | ((j as i32 & 1) << 29))
+                        .collect();
+                    let m = row.len();
+                    for (memory, stride, t) in [
+                        (&mut with_skip, 8usize, travel.as_ptr()),
+                        (&mut without, 7, null()),
+                    ] {
+                        let mut out = vec![FractumContact::default(); m];
+                        let mut at = vec![-1; m];
+                        let mut kept = vec![-1; m];
+                        let mut count = -1;
+                        let s = fractum_kernel_pair_row(
+                            &law,
+                            fbs.as_ptr(),
+                            if poly { places.as_ptr() } else { null() },
+                            keys.as_ptr(),
+                            t,
+                            n as i32,
+                            i as i32,
+                            partners.as_ptr(),
+                            m as i32,
+                            (1 << 29) - 1,
+                            memory[first * stride..].as_mut_ptr(),
+                            stride as i32,
+                            dt,
+                            update,
+                            i32::from(poly),
+                            kept.as_mut_ptr(),
+                            out.as_mut_ptr(),
+                            at.as_mut_ptr(),
+                            &mut count,
+                        );
+                        assert_eq!(s, FRACTUM_OK);
+                        let touching_here: Vec<usize> = (0..m)
+                            .filter(|&k| expected[first + k].touching != 0)
+                            .collect();
+                        assert_eq!(count as usize, touching_here.len());
+                        for (c, &k) in out.iter().zip(&at).take(count as usize) {
+                            assert_eq!(*c, expected[first + k as usize]);
+                            assert_eq!(bits(&c.force), bits(&expected[first + k as usize].force));
+                        }
+                        for k in 0..m {
+                            let record = &memory[(first + k) * stride..(first + k + 1) * stride];
+                            let r = &reference[first + k];
+                            assert_eq!(bits(&record[..3]), bits(&r.hist));
+                            assert_eq!(bits(&record[3..6]), bits(&r.normal));
+                            assert_eq!(record[6].to_bits(), r.radius.to_bits());
+                            assert_eq!(kept[k], i32::from(record.iter().any(|v| *v != 0.0)));
+                        }
+                    }
+                    touching += expected[first..first + m]
+                        .iter()
+                        .filter(|c| c.touching != 0)
+                        .count();
+                    first += m;
+                }
+                for (b, t) in bodies.iter_mut().zip(&mut travel) {
+                    let before = fb(b);
+                    b.pos += b.vel * h;
+                    b.orientation = UnitQuaternion::from_scaled_axis(b.omega * h) * b.orientation;
+                    assert_eq!(fractum_kernel_travel(&before, &fb(b), t), FRACTUM_OK);
+                }
+            }
+        }
+        assert!(
+            skipped > 500 && touching > 500 && searched_apart > 100,
+            "skipped {skipped}, touching {touching}, searched apart {searched_apart}"
+        );
+    }
+
+    /// The travel kernel adds the library's step: a turn and a shift, summed.
+    #[test]
+    fn travel_adds_the_library_step() {
+        let mut d = Draw::new(4);
+        for sphere in [true, false] {
+            let a = random_body(&mut d, sphere);
+            let mut b = a;
+            b.pos += d.vec(1e-5);
+            b.orientation = UnitQuaternion::from_scaled_axis(d.vec(0.01)) * a.orientation;
+            let mut t = 0.25e-3;
+            assert_eq!(fractum_kernel_travel(&fb(&a), &fb(&b), &mut t), FRACTUM_OK);
+            let step = travel_step(&a.pos, &a.orientation, &b.pos, &b.orientation, b.radius);
+            assert_eq!(t.to_bits(), (0.25e-3 + step).to_bits());
+            let angle = a.orientation.angle_to(&b.orientation);
+            assert!(step >= (b.pos - a.pos).norm() + b.radius * angle);
+        }
+        assert_eq!(
+            fractum_kernel_travel(null(), null(), null_mut()),
+            FRACTUM_ERR_NULL
+        );
+    }
+
     /// The frequency shares of pair contacts as the run's estimate sums them (over a Bodies,
     /// as `records_max_frequency` reads it), and the adapted step.
     #[test]
@@ -1909,6 +2338,17 @@ mod tests {
                     let s = fractum_kernel_frequency_share(&law, &c, own, other, &mut shares[k]);
                     assert_eq!(s, FRACTUM_OK);
                 }
+                let mut both = [f64::NAN; 2];
+                let s = fractum_kernel_frequency_shares(
+                    &law,
+                    &c,
+                    &fa,
+                    &fb_,
+                    &mut both[0],
+                    &mut both[1],
+                );
+                assert_eq!(s, FRACTUM_OK);
+                assert_eq!(bits(&both), bits(&shares));
                 let sum = shares[0].max(shares[1]);
                 let lib = records_max_frequency(&[record(1)], &bodies, tangential);
                 assert_eq!(frequency_bound(sum).to_bits(), lib.to_bits());

@@ -17,7 +17,7 @@ FixFractumNvePolyell::FixFractumNvePolyell(LAMMPS *lmp, int narg, char **arg) :
   if (narg != 3)
     error->all(FLERR, "{} takes no arguments after the group (got {})", STYLE, arg[3]);
   time_integrate = 1;
-  comm_forward = 4;
+  comm_forward = 5;
 }
 
 int FixFractumNvePolyell::setmask()
@@ -36,6 +36,7 @@ void FixFractumNvePolyell::init()
 
 void FixFractumNvePolyell::arrays()
 {
+  travel = fractum_array_if(lmp, "fr_travel");
   last = fractum_array_if(lmp, "fr_last");
   if (last) last = fractum_array(lmp, STYLE, "fr_last", 7, "declare d2_fr_last 7");
   shape = fractum_array_if(lmp, "fr_shape");
@@ -65,12 +66,19 @@ void FixFractumNvePolyell::advance(Kernel step, const char *name)
 {
   arrays();
   int *mask = atom->mask;
-  FractumBody b;
+  FractumBody b, before;
+  // A drift moves the bodies: each one's travel grows by it (the pair's separated pairs' skip).
+  const bool moves = travel && quat && step == fractum_kernel_kick_drift;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     fractum_body(atom, shape, quat, inertia, i, b);
+    if (moves) before = b;
     int status = step(&b, atom->f[i], atom->torque[i], update->dt);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, name, status);
+    if (moves) {
+      status = fractum_kernel_travel(&before, &b, &travel[i][0]);
+      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "travel", status);
+    }
     store(i, b);
   }
 }
@@ -118,14 +126,19 @@ void FixFractumNvePolyell::final_integrate()
 int FixFractumNvePolyell::pack_forward_comm(int n, int *list, double *buf, int, int *)
 {
   int m = 0;
-  for (int k = 0; k < n; k++)
+  for (int k = 0; k < n; k++) {
     for (int d = 0; d < 4; d++) buf[m++] = quat[list[k]][d];
+    buf[m++] = travel ? travel[list[k]][0] : 0.0;
+  }
   return m;
 }
 
 void FixFractumNvePolyell::unpack_forward_comm(int n, int first, double *buf)
 {
   int m = 0;
-  for (int i = first; i < first + n; i++)
+  for (int i = first; i < first + n; i++) {
     for (int d = 0; d < 4; d++) quat[i][d] = buf[m++];
+    if (travel) travel[i][0] = buf[m];
+    m++;
+  }
 }

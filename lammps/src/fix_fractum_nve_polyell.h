@@ -1,7 +1,9 @@
 /* fix ID group fractum/nve/polyell: Fractum's velocity Verlet for rigid grains (libfractum's
    fractum_kernel_kick_drift and fractum_kernel_kick, the functions Fractum's integrator runs):
    spheres kick their angular velocity, poly-ellipsoids their angular momentum, and orientations
-   turn by the midpoint rule. The orientations (d2_fr_orient) go to the ghost atoms every step. */
+   turn by the midpoint rule. The orientations (d2_fr_orient) go to the ghost atoms every step,
+   with, when d2_fr_travel is declared, each body's travel: the sum over its drifts of how far it
+   may have moved (fractum_kernel_travel), which pair fractum/granular's skip reads. */
 #ifndef FRACTUM_FIX_NVE_POLYELL_H
 #define FRACTUM_FIX_NVE_POLYELL_H
 
@@ -24,7 +26,8 @@ class FixFractumNvePolyell : public Fix {
 
  private:
   double **shape = nullptr, **quat = nullptr, **inertia = nullptr;
-  double **last = nullptr;    // d2_fr_last, when declared
+  double **last = nullptr;      // d2_fr_last, when declared
+  double **travel = nullptr;    // d2_fr_travel, when declared
   bool resume = false;
   typedef FractumStatus (*Kernel)(FractumBody *, const double *, const double *, double);
   void arrays();

@@ -145,14 +145,29 @@ void FixFractumPlatens::post_force(int)
   FractumPairMemory scratch;
   FractumContact out;
   double **f = atom->f, **torque = atom->torque;
+  double **x = atom->x, *radius = atom->radius;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
-    fractum_body(atom, shape, quat, inertia, i, b);
+    bool placed = false;
     for (int w = 0; w < FACES; w++) {
       if (!active[w]) continue;
       // hist (3), unused (3), held radius: the pair memory layout, kept as the pair keeps its.
       FractumPairMemory *stored =
           walls ? reinterpret_cast<FractumPairMemory *>(&walls[i][WALL_SLOT * w]) : nullptr;
+      // An atom whose bounding sphere is clear of the face by more than round-off, with
+      // nothing remembered of it: the kernel would find no contact and change nothing (its
+      // own test is this one without the margin).
+      const double clear = (x[i][0] - point[w][0]) * normal[w][0] +
+          (x[i][1] - point[w][1]) * normal[w][1] + (x[i][2] - point[w][2]) * normal[w][2];
+      if (clear >= radius[i] * (1.0 + 1e-9) &&
+          (!stored ||
+           (stored->hist[0] == 0.0 && stored->hist[1] == 0.0 && stored->hist[2] == 0.0 &&
+            stored->radius == 0.0)))
+        continue;
+      if (!placed) {
+        fractum_body(atom, shape, quat, inertia, i, b);
+        placed = true;
+      }
       FractumPairMemory *mem = fractum_memory(stored, keep_memory, scratch);
       int status = fractum_kernel_wall(&law, &b, normal[w], point[w], velocity[w], mem,
                                        update->dt, update_history, shapes, &out);

@@ -14,6 +14,9 @@
      fix frgrain all property/atom d2_fr_grain 5 ghost yes      [Weibull factor, sample grain tag,
                                                                  splits so far, intact springs,
                                                                  tag split from (0: sample grain)]
+     fix frtravel all property/atom d2_fr_travel 1 ghost yes    [travel (m), optional: summed by
+                                                                 fix fractum/nve/polyell, read
+                                                                 by the pair's skip]
      fix frstate all property/atom d2_fr_springs N d2_fr_walls 42 d2_fr_last 7
        (fracture, platens, integrator)
        fr_springs 21 doubles per spring slot (see fix_fractum_fracture.h)

@@ -139,7 +139,7 @@ void PairFractumGranular::init_style()
                                           : NeighConst::REQ_SIZE);
   if (use_history && history == nullptr) {
     Fix *f = modify->replace_fix("NEIGH_HISTORY_FRACTUM_DUMMY",
-                                 "NEIGH_HISTORY_FRACTUM all NEIGH_HISTORY 7", 1);
+                                 "NEIGH_HISTORY_FRACTUM all NEIGH_HISTORY " + std::to_string(HISTORY), 1);
     history = static_cast<FractumNeighHistoryView *>(f);
     history->pair = this;
     dummy = nullptr;
@@ -157,19 +157,26 @@ double PairFractumGranular::init_one(int, int)
 
 void PairFractumGranular::transfer_history(double *source, double *target, int, int)
 {
-  for (int k = 0; k < 7; k++) target[k] = source[k];
+  for (int k = 0; k < HISTORY; k++) target[k] = source[k];
 }
 
 void PairFractumGranular::check_history()
 {
   if (!history) return;
   int nall = atom->nlocal + atom->nghost;
-  if (history->pair != this || history->dnum != 7 || history->nlocal_neigh != atom->nlocal ||
+  if (history->pair != this || history->dnum != HISTORY || history->nlocal_neigh != atom->nlocal ||
       history->nall_neigh != nall || history->newton_pair != force->newton_pair)
     error->one(FLERR,
                "{}: LAMMPS's neighbour-history fix does not have the layout this plugin was built "
-               "for (dnum {} for 7, nlocal {} for {}): rebuild the plugin against this LAMMPS",
-               STYLE, history->dnum, history->nlocal_neigh, atom->nlocal);
+               "for (dnum {} for {}, nlocal {} for {}): rebuild the plugin against this LAMMPS",
+               STYLE, history->dnum, HISTORY, history->nlocal_neigh, atom->nlocal);
+}
+
+void PairFractumGranular::reset_record(double *r)
+{
+  // A new shape: the held Hertz radius starts afresh, and the pair's old gap tells nothing.
+  r[6] = 0.0;
+  r[7] = 0.0;
 }
 
 void PairFractumGranular::record(int i, const double *f, const double *p, double hertz_force,
@@ -252,41 +259,61 @@ void PairFractumGranular::compute(int eflag, int vflag)
   int *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
   int **firsttouch = history ? history->firstflag : nullptr;
   double **firstvalue = history ? history->firstvalue : nullptr;
-  FractumPairMemory scratch;
-  FractumContact out;
+  // The partners' tags order each pair (the lower tag is body A), and with shapes the
+  // bodies' travels (d2_fr_travel, summed by fix fractum/nve/polyell) let the row kernel skip
+  // the pairs found apart that cannot have closed since, as Fractum's own loop does.
+  keys.resize(nall);
+  for (int i = 0; i < nall; i++) keys[i] = tag[i];
+  double **travel_arr = shapes ? fractum_array_if(lmp, "fr_travel") : nullptr;
+  if (travel_arr) {
+    travel.resize(nall);
+    for (int i = 0; i < nall; i++) travel[i] = travel_arr[i][0];
+  }
 
   for (int ii = 0; ii < inum; ii++) {
     int i = ilist[ii];
     int *jlist = firstneigh[i];
     int jnum = numneigh[i];
+    if (jnum == 0) continue;
     int *touch = firsttouch ? firsttouch[i] : nullptr;
-    double *values = firstvalue ? firstvalue[i] : nullptr;
-    for (int jj = 0; jj < jnum; jj++) {
-      int j = jlist[jj] & NEIGHMASK;
-      FractumPairMemory *stored =
-          values ? reinterpret_cast<FractumPairMemory *>(&values[7 * jj]) : nullptr;
-      FractumPairMemory *mem = fractum_memory(stored, keep_memory, scratch);
-      // The kernel always sees the lower tag as body A: a contact gives the same bits on
-      // whichever rank computes it, whichever atom's list holds it.
-      const bool swap = tag[i] > tag[j];
-      const int a = swap ? j : i, b = swap ? i : j;
-      if (any_reshaped &&
-          (std::binary_search(reshaped.begin(), reshaped.end(), tag[a]) ||
-           std::binary_search(reshaped.begin(), reshaped.end(), tag[b])))
-        mem->radius = 0.0;
-      int status = shapes ? fractum_kernel_pair_placed(&law, &bodies[a], &places[a], &bodies[b],
-                                                       &places[b], mem, dt, update_history,
-                                                       shapes, &out)
-                          : fractum_kernel_pair(&law, &bodies[a], &bodies[b], mem, dt,
-                                                update_history, shapes, &out);
-      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "pair", status);
-      if (touch) {
-        const double *v = reinterpret_cast<const double *>(stored);
+    double *stored = firstvalue ? firstvalue[i] : nullptr;
+    // The row's contact records (HISTORY doubles each): LAMMPS's own when they are kept,
+    // else a copy (zeros without history) thrown away after the call.
+    double *records = stored;
+    if (!stored || !keep_memory) {
+      row.assign((size_t) HISTORY * jnum, 0.0);
+      if (stored) std::copy(stored, stored + (size_t) HISTORY * jnum, row.begin());
+      records = row.data();
+    }
+    if (any_reshaped && std::binary_search(reshaped.begin(), reshaped.end(), tag[i])) {
+      for (int jj = 0; jj < jnum; jj++) reset_record(&records[HISTORY * jj]);
+    } else if (any_reshaped) {
+      for (int jj = 0; jj < jnum; jj++)
+        if (std::binary_search(reshaped.begin(), reshaped.end(), tag[jlist[jj] & NEIGHMASK]))
+          reset_record(&records[HISTORY * jj]);
+    }
+    if (row_out.size() < static_cast<size_t>(jnum)) {
+      row_out.resize(jnum);
+      row_at.resize(jnum);
+    }
+    int count = 0;
+    int status = fractum_kernel_pair_row(
+        &law, bodies.data(), shapes ? places.data() : nullptr, keys.data(),
+        travel_arr ? travel.data() : nullptr, nall, i, jlist, jnum, NEIGHMASK, records, HISTORY,
+        dt, update_history, shapes, touch && records == stored ? touch : nullptr, row_out.data(),
+        row_at.data(), &count);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "pair_row", status);
+    if (touch && records != stored)
+      for (int jj = 0; jj < jnum; jj++) {
         int keep = 0;
-        for (int k = 0; k < 7; k++) keep |= v[k] != 0.0;
+        for (int k = 0; k < HISTORY; k++) keep |= stored[HISTORY * jj + k] != 0.0;
         touch[jj] = keep;
       }
-      if (!out.touching) continue;
+    for (int c = 0; c < count; c++) {
+      const FractumContact &out = row_out[c];
+      const int j = jlist[row_at[c]] & NEIGHMASK;
+      const bool swap = tag[i] > tag[j];
+      const int a = swap ? j : i;
       contacts++;
       // Energies once per contact: by the rank that owns its lower-tag atom.
       if (a < nlocal) {
@@ -307,12 +334,21 @@ void PairFractumGranular::compute(int eflag, int vflag)
       si.hertz_force = out.hertz_force;
       si.radius = out.radius;
       si.stiffness = out.stiffness;
+      si.share = 0.0;
+      double other_share = 0.0;
+      if (frequency_due) {
+        // Both bodies' loads once per contact; each atom adds its share in its partners' order.
+        int fs = fractum_kernel_frequency_shares(&law, &out, &bodies[i], &bodies[j], &si.share,
+                                                 &other_share);
+        if (fs != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "frequency_shares", fs);
+      }
       contributions.push_back(si);
       if (j < nlocal) {
         Contribution &sj = contributions.emplace_back(si);
         sj.i = j;
         sj.j = i;
         sj.partner = tag[i];
+        sj.share = other_share;
         for (int k = 0; k < 3; k++) {
           sj.force[k] = -si.force[k];
           sj.torque[k] = swap ? out.torque_a[k] : out.torque_b[k];
@@ -347,13 +383,8 @@ void PairFractumGranular::compute(int eflag, int vflag)
       torque[i][k] += s.torque[k];
     }
     if (frequency_due) {
-      FractumContact c{};
-      for (int k = 0; k < 3; k++) {
-        c.point[k] = s.point[k];
-        c.normal[k] = s.normal[k];
-      }
-      c.stiffness = s.stiffness;
-      add_share(i, c, bodies[i], &bodies[s.j]);
+      if (shares.size() < static_cast<size_t>(nlocal)) shares.resize(nlocal, 0.0);
+      shares[i] += s.share;
     }
     if (recording && grain_arr[i][3] == 0.0)
       record(i, s.force, s.point, s.hertz_force, s.radius, grain_arr[i][0]);
@@ -368,5 +399,9 @@ double PairFractumGranular::memory_usage()
       (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
       (double) shares.capacity() * sizeof(double) +
       (double) contributions.capacity() * sizeof(Contribution) +
-      (double) (order.capacity() + first.capacity() + cursor.capacity()) * sizeof(int);
+      (double) (order.capacity() + first.capacity() + cursor.capacity() + row_at.capacity()) *
+      sizeof(int) +
+      (double) (keys.capacity()) * sizeof(int64_t) +
+      (double) (travel.capacity() + row.capacity()) * sizeof(double) +
+      (double) row_out.capacity() * sizeof(FractumContact);
 }

@@ -1,6 +1,8 @@
 /* pair_style fractum/granular: Fractum's Hertz-Mindlin contact law between spheres and
-   poly-ellipsoids (libfractum's fractum_kernel_pair, the very function Fractum's own contact loop
-   runs), with per-contact history through LAMMPS's neighbour-history fix.
+   poly-ellipsoids (libfractum's fractum_kernel_pair_row: the very function Fractum's own contact
+   loop runs, over one neighbour-list row per call, with Fractum's separated pairs' skip when the
+   per-atom travels d2_fr_travel are declared), with per-contact history through LAMMPS's
+   neighbour-history fix.
 
    pair_style fractum/granular
    pair_coeff * * young E poisson NU [restitution e] [friction MU]
@@ -22,6 +24,9 @@ namespace LAMMPS_NS {
 
 class PairFractumGranular : public Pair {
  public:
+  /* Doubles per contact record in the neighbour history: a FractumPairMemory (7), then the
+     pair's reach for the separated pairs' skip (fractum_kernel_pair_row). */
+  static constexpr int HISTORY = 8;
   PairFractumGranular(class LAMMPS *);
   ~PairFractumGranular() override;
   void compute(int, int) override;
@@ -83,14 +88,22 @@ class PairFractumGranular : public Pair {
     tagint partner;
     double force[3], torque[3], point[3], normal[3];
     double hertz_force, radius, stiffness;
+    double share;    // the contact's frequency share of atom i's row (when frequency_due)
   };
   std::vector<Contribution> contributions;
   // Indices into contributions, grouped by atom (counting sort: each atom's first slot and a
   // cursor per atom) and by partner tag within an atom: sorted instead of the contributions
   // themselves, which are ten times larger.
   std::vector<int> order, first, cursor;
+  /* Per evaluation: the bodies' tags and travels; per row: the kernel's touching contacts,
+     their candidates, and a scratch copy of the row's records. */
+  std::vector<int64_t> keys;
+  std::vector<double> travel, row;
+  std::vector<FractumContact> row_out;
+  std::vector<int> row_at;
   double maxrad = 0.0;
   void check_history();
+  static void reset_record(double *r);
 };
 
 }    // namespace LAMMPS_NS

@@ -621,6 +621,37 @@ pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
     pair_reach: Vec<f64>,
 }
 
+/// How far a body of bounding radius `radius` (m) may have moved, at most, from pose
+/// (`from_pos`, `from_q`) to (`to_pos`, `to_q`): its centroid's path plus its bounding radius
+/// (taken a millionth larger: it is an ascent's maximum) times a bound on the angle it turned
+/// (m). The separated pairs' skip adds these up per body ("travel").
+#[inline(always)]
+pub fn travel_step(
+    from_pos: &Vec3,
+    from_q: &UnitQuaternion<f64>,
+    to_pos: &Vec3,
+    to_q: &UnitQuaternion<f64>,
+    radius: f64,
+) -> f64 {
+    (to_pos - from_pos).norm() + radius * (1.0 + 1e-6) * turn_bound(from_q, to_q)
+}
+
+/// What a pair of bodies (bounding radii `ri`, `rj`, m) found apart by `gap` (m) when their
+/// travels were `travel_i`, `travel_j` may skip: the sum of their travels must pass it before
+/// they can touch, less a margin for round-off (m). A pair whose travels sum to no more than
+/// its reach is not searched: the search would find it apart again ([`skips`]).
+#[inline(always)]
+pub fn pair_reach(travel_i: f64, travel_j: f64, gap: f64, ri: f64, rj: f64) -> f64 {
+    travel_i + travel_j + gap * (1.0 - 1e-9) - 1e-12 * (ri + rj)
+}
+
+/// True when a pair of `reach` ([`pair_reach`]; 0: never found apart) need not be searched
+/// with its bodies' travels now `travel_i`, `travel_j`.
+#[inline(always)]
+pub fn skips(reach: f64, travel_i: f64, travel_j: f64) -> bool {
+    reach > travel_i + travel_j
+}
+
 /// A bound on the angle (rad) of the rotation from `from` to `to`: `2 asin(s)` with `s` the
 /// length of the vector part of `to from⁻¹`, bounded by `2.0944 s` while `s <= 1/2`
 /// (`asin(s)/s` grows from 1 to π/3 / (1/2) there), else π.
@@ -688,9 +719,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             .extend((known..n).map(|i| (bodies.pos[i], bodies.orientation[i])));
         for (i, (x, q)) in self.last_pose.iter_mut().enumerate().take(known) {
             let (pos, orientation) = (&bodies.pos[i], &bodies.orientation[i]);
-            // The bounding radius is an ascent's maximum: taken a millionth larger.
-            self.travel[i] +=
-                (pos - *x).norm() + bodies.radius[i] * (1.0 + 1e-6) * turn_bound(q, orientation);
+            self.travel[i] += travel_step(x, q, pos, orientation, bodies.radius[i]);
             *x = *pos;
             *q = *orientation;
         }
@@ -700,8 +729,13 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
     /// travel it must reach before it is searched again, less a margin for round-off.
     #[inline(always)]
     fn reach(&self, i: usize, j: usize, gap: f64, bodies: &Bodies) -> f64 {
-        self.travel[i] + self.travel[j] + gap * (1.0 - 1e-9)
-            - 1e-12 * (bodies.radius[i] + bodies.radius[j])
+        pair_reach(
+            self.travel[i],
+            self.travel[j],
+            gap,
+            bodies.radius[i],
+            bodies.radius[j],
+        )
     }
 
     fn rebuild_pairs(&mut self, bodies: &Bodies) {
@@ -800,7 +834,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         reach: &mut f64,
         ctx: &StepContext,
     ) -> Option<PairOut> {
-        if POLY && *reach > self.travel[i] + self.travel[j] {
+        if POLY && skips(*reach, self.travel[i], self.travel[j]) {
             return None;
         }
         let at = |i| BodyAt {

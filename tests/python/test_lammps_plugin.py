@@ -235,17 +235,23 @@ def test_crush_grain_matches_fractum_to_the_first_split(tmp_path):
     assert axes == [first["axis"]]
 
 
-def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None):
+def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel=True):
     """The small loaded packing with friction, fracture, Weibull and cohesion for `steps`
     steps on `ranks` ranks (through a restart file written at `restart_at` and read by a
     second LAMMPS run when given; with the step adapted to `adapt_omega_dt` instead of the
-    export's target when given); the final atoms, and what the fracture fix reports (splits,
-    the split audit, atoms, times the step was shortened and the step)."""
+    export's target when given; without the travels, so without the separated pairs' skip,
+    when `travel` is false); the final atoms (the travel last, when declared), and what the
+    fracture fix reports (splits, the split audit, atoms, times the step was shortened and the
+    step)."""
     report = ('print "FRACTURE $(f_fracture[1]) $(f_fracture[11]) $(f_fracture[12]) '
               '$(f_fracture[13]) $(atoms) $(f_fracture[8]) $(f_fracture[9]:%.17g)"\n'
               "write_dump all custom final.dump id mass radius x y z vx vy vz d2_fr_grain[5] "
-              "d2_fr_grain[1] modify format float %.17g")
+              "d2_fr_grain[1]" + (" d2_fr_travel[1]" if travel else "") +
+              " modify format float %.17g")
     head = head_of(folder)
+    assert "d2_fr_travel" in head
+    if not travel:
+        head = "\n".join(l for l in head.splitlines() if "d2_fr_travel" not in l) + "\n"
     if adapt_omega_dt is not None:
         assert "adapt_omega_dt" in head
         head = re.sub(r"adapt_omega_dt \S+", f"adapt_omega_dt {adapt_omega_dt}", head)
@@ -299,6 +305,22 @@ def test_one_and_two_ranks_agree_and_splits_conserve(tmp_path):
     # Rounding of a sum of two products: a few units in the last place.
     assert p_err <= 1e-14
     assert overlap <= 1e-12 * one[:, 2].max()
+
+
+def test_the_separated_pairs_skip_changes_no_bit(tmp_path):
+    """The pair's skip of pairs found apart (with the travels declared, as the export does)
+    against every candidate searched: the same atoms, positions and velocities bit for bit
+    after a run with splits, on 2 ranks (ghost travels come from their owners)."""
+    folder = str(tmp_path)
+    export_small(folder)
+    skipping, report = split_run(folder, 2, 2000)
+    searching, report_all = split_run(folder, 2, 2000, travel=False)
+    assert report[0] >= 5
+    assert report == report_all
+    travel = skipping[:, -1]
+    # Every body moved (the packing is loaded), so every travel grew.
+    assert (travel > 0).all()
+    assert np.array_equal(skipping[:, :-1], searching)
 
 
 def test_restart_continues_as_the_uninterrupted_run(tmp_path):

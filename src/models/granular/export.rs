@@ -749,6 +749,9 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
          fix             frorient all property/atom d2_fr_orient 7 ghost yes\n\
          fix             frinertia all property/atom d2_fr_inertia 7 ghost yes\n\
          fix             frgrain all property/atom d2_fr_grain 5 ghost yes\n\
+         # how far each body may have moved (m, summed by fix fractum/nve/polyell): the pair's\n\
+         # separated pairs' skip reads it (leave it out and every candidate is searched)\n\
+         fix             frtravel all property/atom d2_fr_travel 1 ghost yes\n\
          fix             frstate all property/atom d2_fr_springs {} d2_fr_walls 42 d2_fr_last 7\n\
          read_data       {data_file} fix frshape NULL FractumShape fix frorient NULL FractumOrient &\n\
          \x20               fix frinertia NULL FractumInertia fix frgrain NULL FractumGrain\n",
