@@ -27,7 +27,7 @@ mkdir -p dist
 cp "$target/release/libfractum.so" dist/libfractum.so.tmp
 mv dist/libfractum.so.tmp dist/libfractum.so
 
-g++ -std=c++17 -O2 -ffp-contract=off -fPIC -shared -Wall -Wextra -Wno-unused-parameter \
+g++ -std=c++17 -O2 -g -ffp-contract=off -fPIC -shared -Wall -Wextra -Wno-unused-parameter \
     -DLAMMPS_SMALLBIG -DFRACTUM_LAMMPS_VERSION="\"$version\"" \
     -I"$headers" -I"$PWD/.venv/include" -Iinclude -Ilammps/src \
     lammps/src/*.cpp -Ldist -lfractum -Wl,-rpath,'$ORIGIN' \

@@ -726,34 +726,30 @@ fn placement_in(p: &FractumPlacement) -> Placement {
 /// placement).
 struct RawBody<'a> {
     b: &'a FractumBody,
-    pe: PolyEllipsoid,
     place: Option<&'a FractumPlacement>,
 }
 
 impl<'a> RawBody<'a> {
     /// `place` is read only for a poly-ellipsoid with `shapes` on (then it must be given).
+    /// Refuses a poly-ellipsoid whose semi-axes are not finite and positive.
     #[inline(always)]
     fn new(b: &'a FractumBody, place: Option<&'a FractumPlacement>) -> Result<Self, FractumStatus> {
-        if b.sphere != 0 {
-            return Ok(RawBody {
-                b,
-                pe: PolyEllipsoid { semi: [0.0; 6] },
-                place,
-            });
-        }
-        Ok(RawBody {
-            b,
-            pe: checked_semi(&b.semi)?,
-            place,
-        })
+        input_if(b.sphere == 0 && !semi_ok(&b.semi))?;
+        Ok(RawBody { b, place })
     }
 }
 
-/// The poly-ellipsoid of semi-axes `semi`, each finite and positive (`PolyEllipsoid::new`'s
-/// test, without its message: the kernels run per contact).
+/// Each semi-axis finite and positive (`PolyEllipsoid::new`'s test, without its message: the
+/// kernels run per contact).
+#[inline(always)]
+fn semi_ok(semi: &[f64; 6]) -> bool {
+    semi.iter().all(|v| v.is_finite() && *v > 0.0)
+}
+
+/// The poly-ellipsoid of semi-axes `semi`, checked as `semi_ok`.
 #[inline(always)]
 fn checked_semi(semi: &[f64; 6]) -> Result<PolyEllipsoid, FractumStatus> {
-    input_if(!semi.iter().all(|v| v.is_finite() && *v > 0.0))?;
+    input_if(!semi_ok(semi))?;
     Ok(PolyEllipsoid { semi: *semi })
 }
 
@@ -785,9 +781,11 @@ impl ContactBody for RawBody<'_> {
     #[inline(always)]
     fn placed(&self) -> Placed<'_> {
         match self.place {
-            Some(p) if self.b.sphere == 0 => {
-                Placed::poly_ellipsoid(&self.pe, Vec3::from(p.origin), matrix(&p.rot))
-            }
+            Some(p) if self.b.sphere == 0 => Placed::poly_ellipsoid(
+                PolyEllipsoid::view(&self.b.semi),
+                Vec3::from(p.origin),
+                matrix(&p.rot),
+            ),
             // Asked for only with shapes on and a poly-ellipsoid in the pair; a missing
             // placement is refused before (pair_row).
             _ => Placed::sphere(self.b.radius, Vec3::from(self.b.pos)),

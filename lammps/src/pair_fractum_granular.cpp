@@ -248,7 +248,8 @@ void PairFractumGranular::compute(int eflag, int vflag)
   if (frequency_due) shares.assign(nlocal, 0.0);
   elastic_energy = dissipated = 0.0;
   contacts = 0;
-  contributions.clear();
+  touching.clear();
+  sides.clear();
   std::sort(reshaped.begin(), reshaped.end());
   const bool any_reshaped = !reshaped.empty();
   const int update_history = update->setupflag ? 0 : 1;
@@ -320,74 +321,63 @@ void PairFractumGranular::compute(int eflag, int vflag)
         elastic_energy += out.energy;
         dissipated += out.dissipated;
       }
-      // Force on i; torques on i and j.
-      Contribution si;
-      si.i = i;
-      si.j = j;
-      si.partner = tag[j];
+      // One record per contact: the force on i, the torques on i and j; each owned atom of
+      // it gets a key (its partner's tag) pointing at the record's side.
+      const int n = static_cast<int>(touching.size());
+      Touching &t = touching.emplace_back();
+      t.i = i;
+      t.j = j;
       for (int k = 0; k < 3; k++) {
-        si.force[k] = swap ? -out.force[k] : out.force[k];
-        si.torque[k] = swap ? out.torque_b[k] : out.torque_a[k];
-        si.point[k] = out.point[k];
-        si.normal[k] = out.normal[k];
+        t.force[k] = swap ? -out.force[k] : out.force[k];
+        t.torque_i[k] = swap ? out.torque_b[k] : out.torque_a[k];
+        t.torque_j[k] = swap ? out.torque_a[k] : out.torque_b[k];
+        t.point[k] = out.point[k];
       }
-      si.hertz_force = out.hertz_force;
-      si.radius = out.radius;
-      si.stiffness = out.stiffness;
-      si.share = 0.0;
-      double other_share = 0.0;
+      t.hertz_force = out.hertz_force;
+      t.radius = out.radius;
+      t.share_i = t.share_j = 0.0;
       if (frequency_due) {
         // Both bodies' loads once per contact; each atom adds its share in its partners' order.
-        int fs = fractum_kernel_frequency_shares(&law, &out, &bodies[i], &bodies[j], &si.share,
-                                                 &other_share);
+        int fs = fractum_kernel_frequency_shares(&law, &out, &bodies[i], &bodies[j], &t.share_i,
+                                                 &t.share_j);
         if (fs != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "frequency_shares", fs);
       }
-      contributions.push_back(si);
-      if (j < nlocal) {
-        Contribution &sj = contributions.emplace_back(si);
-        sj.i = j;
-        sj.j = i;
-        sj.partner = tag[i];
-        sj.share = other_share;
-        for (int k = 0; k < 3; k++) {
-          sj.force[k] = -si.force[k];
-          sj.torque[k] = swap ? out.torque_a[k] : out.torque_b[k];
-        }
-      }
+      sides.push_back(Side{i, tag[j], 2 * n});
+      if (j < nlocal) sides.push_back(Side{j, tag[i], 2 * n + 1});
     }
   }
   // Each atom sums its contacts in the order of its partners' tags: the same bits on any rank
   // count (the neighbour lists' order depends on the decomposition, and a sum's rounding on
-  // its order).
-  // Atoms in index order (a counting sort), partners in tag order within each atom (a few
-  // contacts each: insertion sort).
+  // its order). Atoms in index order (a counting sort of the small keys), partners in tag
+  // order within each atom (a few contacts each: insertion sort).
   first.assign(nlocal + 1, 0);
-  for (const Contribution &s : contributions) first[s.i + 1]++;
+  for (const Side &k : sides) first[k.atom + 1]++;
   for (int i = 0; i < nlocal; i++) first[i + 1] += first[i];
-  order.resize(contributions.size());
+  order.resize(sides.size());
   cursor.assign(first.begin(), first.end() - 1);
-  for (size_t n = 0; n < contributions.size(); n++) order[cursor[contributions[n].i]++] = (int) n;
+  for (const Side &k : sides) order[cursor[k.atom]++] = k;
   for (int i = 0; i < nlocal; i++)
     for (int k = first[i] + 1; k < first[i + 1]; k++) {
-      const int moving = order[k];
-      const tagint key = contributions[moving].partner;
+      const Side moving = order[k];
       int m = k;
-      for (; m > first[i] && contributions[order[m - 1]].partner > key; m--) order[m] = order[m - 1];
+      for (; m > first[i] && order[m - 1].partner > moving.partner; m--) order[m] = order[m - 1];
       order[m] = moving;
     }
-  for (const int o : order) {
-    const Contribution &s = contributions[o];
-    const int i = s.i;
-    for (int k = 0; k < 3; k++) {
-      f[i][k] += s.force[k];
-      torque[i][k] += s.torque[k];
+  if (frequency_due && shares.size() < static_cast<size_t>(nlocal)) shares.resize(nlocal, 0.0);
+  for (const Side &k : order) {
+    const Touching &t = touching[k.side >> 1];
+    const bool as_j = k.side & 1;
+    const int i = k.atom;
+    double force[3];
+    const double *turn = as_j ? t.torque_j : t.torque_i;
+    for (int d = 0; d < 3; d++) {
+      force[d] = as_j ? -t.force[d] : t.force[d];
+      f[i][d] += force[d];
+      torque[i][d] += turn[d];
     }
-    if (frequency_due) {
-      if (shares.size() < static_cast<size_t>(nlocal)) shares.resize(nlocal, 0.0);
-      shares[i] += s.share;
-    }
+    if (frequency_due) shares[i] += as_j ? t.share_j : t.share_i;
     if (recording && grain_arr[i][3] == 0.0)
-      record(i, s.force, s.point, s.hertz_force, s.radius, grain_arr[i][0]);
+      record(i, force, t.point, t.hertz_force, t.radius, grain_arr[i][0]);
   }
   reshaped.clear();
 }
@@ -398,9 +388,9 @@ double PairFractumGranular::memory_usage()
       (double) places.capacity() * sizeof(FractumPlacement) +
       (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
       (double) shares.capacity() * sizeof(double) +
-      (double) contributions.capacity() * sizeof(Contribution) +
-      (double) (order.capacity() + first.capacity() + cursor.capacity() + row_at.capacity()) *
-      sizeof(int) +
+      (double) touching.capacity() * sizeof(Touching) +
+      (double) (sides.capacity() + order.capacity()) * sizeof(Side) +
+      (double) (first.capacity() + cursor.capacity() + row_at.capacity()) * sizeof(int) +
       (double) (keys.capacity()) * sizeof(int64_t) +
       (double) (travel.capacity() + row.capacity()) * sizeof(double) +
       (double) row_out.capacity() * sizeof(FractumContact);

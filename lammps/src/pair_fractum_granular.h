@@ -81,20 +81,25 @@ class PairFractumGranular : public Pair {
   class Fix *dummy = nullptr;
   std::vector<FractumBody> bodies;
   std::vector<FractumPlacement> places;
-  /* One contact as one owned atom sees it: the force and torque on it, and what fracture and
-     the step adaptation read of the contact. */
-  struct Contribution {
-    int i, j;    // the owned atom and its partner (owned or ghost)
-    tagint partner;
-    double force[3], torque[3], point[3], normal[3];
-    double hertz_force, radius, stiffness;
-    double share;    // the contact's frequency share of atom i's row (when frequency_due)
+  /* One touching contact of this evaluation: the force on i, the torques on i and j, and what
+     fracture and the step adaptation read of it. */
+  struct Touching {
+    int i, j;    // the row's owned atom and its partner (owned or ghost)
+    double force[3], torque_i[3], torque_j[3], point[3];
+    double hertz_force, radius, share_i, share_j;
   };
-  std::vector<Contribution> contributions;
-  // Indices into contributions, grouped by atom (counting sort: each atom's first slot and a
-  // cursor per atom) and by partner tag within an atom: sorted instead of the contributions
-  // themselves, which are ten times larger.
-  std::vector<int> order, first, cursor;
+  std::vector<Touching> touching;
+  /* What an owned atom sums: its partner's tag (the order of the sum) and which side of which
+     contact (2 n for atom i of touching[n], 2 n + 1 for atom j). Sorted instead of the contacts,
+     which are ten times larger. */
+  struct Side {
+    int atom;
+    tagint partner;
+    int side;
+  };
+  std::vector<Side> sides, order;
+  // Each atom's first slot in `order` and a cursor per atom (the counting sort).
+  std::vector<int> first, cursor;
   /* Per evaluation: the bodies' tags and travels; per row: the kernel's touching contacts,
      their candidates, and a scratch copy of the row's records. */
   std::vector<int64_t> keys;

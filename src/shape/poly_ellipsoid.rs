@@ -21,8 +21,10 @@ use std::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, SymmetricEigen, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// A poly-ellipsoid in its shape frame (paper Eq. 1–2).
+/// A poly-ellipsoid in its shape frame (paper Eq. 1–2). Laid out as its six semi-axes (the C
+/// ABI's kernels view a caller's `[f64; 6]` as one without copying: [`PolyEllipsoid::view`]).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[repr(transparent)]
 pub struct PolyEllipsoid {
     /// Semi-axis lengths `[a+, a-, b+, b-, c+, c-]` (m) along +x, -x, +y, -y, +z, -z.
     pub semi: [f64; 6],
@@ -40,6 +42,14 @@ impl PolyEllipsoid {
             }
         }
         Ok(PolyEllipsoid { semi })
+    }
+
+    /// `semi` seen as a poly-ellipsoid, unchecked (the caller has checked each semi-axis
+    /// finite and positive, as [`PolyEllipsoid::new`] does).
+    #[inline(always)]
+    pub fn view(semi: &[f64; 6]) -> &PolyEllipsoid {
+        // SAFETY: PolyEllipsoid is #[repr(transparent)] over [f64; 6].
+        unsafe { &*(semi as *const [f64; 6]).cast::<PolyEllipsoid>() }
     }
 
     /// The sphere of radius `r` (all six semi-axes equal).
