@@ -728,6 +728,12 @@ enum FractumStatus fractum_kernel_spring(struct FractumSpring *s,
                                          double *work,
                                          int32_t *broke);
 
+// `*can` = 1 when grain `b` can break along some plane, 0 when its shape forbids breaking
+// whatever triggers it (`fracture::break_plane::shape_forbids_breaking`: two or three bad
+// semi-axis ratios, Section 3.3.3), so that `fractum_kernel_split` would return axis -1: a
+// host that must prepare a split (LAMMPS: a reneighbouring) asks first. A sphere can.
+enum FractumStatus fractum_kernel_can_break(const struct FractumBody *b, int32_t *can);
+
 // Velocity Verlet's first half kick and drift of one grain over `dt` (s), as Fractum's
 // integrator moves each body (`velocity_verlet::kick_drift_body`, orientations tracked):
 // `b`'s velocity, position, angular velocity and orientation advance under `force` (3

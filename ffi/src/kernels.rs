@@ -1539,6 +1539,22 @@ pub extern "C" fn fractum_kernel_spring(
     })
 }
 
+/// `*can` = 1 when grain `b` can break along some plane, 0 when its shape forbids breaking
+/// whatever triggers it (`fracture::break_plane::shape_forbids_breaking`: two or three bad
+/// semi-axis ratios, Section 3.3.3), so that `fractum_kernel_split` would return axis -1: a
+/// host that must prepare a split (LAMMPS: a reneighbouring) asks first. A sphere can.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_can_break(b: *const FractumBody, can: *mut i32) -> FractumStatus {
+    kernel(|| {
+        let b = body_in(get(b)?)?;
+        let can = get_mut(can)?;
+        *can = i32::from(!fractum::fracture::break_plane::shape_forbids_breaking(
+            &b.shape.semi_axes(b.radius),
+        ));
+        Ok(())
+    })
+}
+
 /// Velocity Verlet's first half kick and drift of one grain over `dt` (s), as Fractum's
 /// integrator moves each body (`velocity_verlet::kick_drift_body`, orientations tracked):
 /// `b`'s velocity, position, angular velocity and orientation advance under `force` (3
@@ -2704,7 +2720,7 @@ mod tests {
     #[test]
     fn split_bond_and_springs_give_the_library_bits() {
         let mut d = Draw::new(8);
-        let (mut splits, mut springs_made, mut broke) = (0, 0, 0);
+        let (mut splits, mut springs_made, mut broke, mut forbidden) = (0, 0, 0, 0);
         for case in 0..120 {
             let springs = [0, 3, 4, 16][case % 4];
             let law = fracture_law(springs, d.flag(), d.flag());
@@ -2749,6 +2765,11 @@ mod tests {
                 &mut out,
             );
             assert_eq!(s, FRACTUM_OK);
+            // Asked first, the shape test agrees with the split.
+            let mut can = -1;
+            assert_eq!(fractum_kernel_can_break(&fb(&b), &mut can), FRACTUM_OK);
+            assert_eq!(can, i32::from(out.axis >= 0));
+            forbidden += usize::from(can == 0);
             let Some(split) = lib else {
                 assert_eq!(out.axis, -1);
                 continue;
@@ -2846,8 +2867,8 @@ mod tests {
             }
         }
         assert!(
-            splits > 60 && springs_made > 200 && broke > 100,
-            "{splits} {springs_made} {broke}"
+            splits > 60 && springs_made > 200 && broke > 100 && forbidden > 5,
+            "{splits} {springs_made} {broke} {forbidden}"
         );
     }
 

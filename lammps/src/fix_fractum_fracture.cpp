@@ -185,6 +185,7 @@ void FixFractumFracture::arrays()
   inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
   grain = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, hint);
   walls = fractum_array_if(lmp, "fr_walls");
+  travel = fractum_array_if(lmp, "fr_travel");
   slots = cohesion ? fractum_array(lmp, STYLE, "fr_springs", SPRING_SLOT * springs,
                                    "declare `fix ID all property/atom d2_fr_springs 21*N` "
                                    "(N = the springs per break plane)")
@@ -449,6 +450,13 @@ void FixFractumFracture::end_of_step()
                                       static_cast<size_t>(c.count), c.point, c.stress[0], &t);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "check", status);
     if (t.kind == 0) continue;
+    // A grain whose shape forbids breaking fails without a split (as in Fractum): no decision,
+    // so no reneighbouring for it (in the main job such pieces failed at most steps late in the
+    // run, and each decision cost a neighbour build).
+    int can = 1;
+    status = fractum_kernel_can_break(&b, &can);
+    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "can_break", status);
+    if (!can) continue;
     Decision d;
     d.tag = atom->tag[i];
     d.trigger = t;
@@ -620,6 +628,9 @@ void FixFractumFracture::pre_exchange()
         for (int s = 0; s < springs * SPRING_SLOT; s++) slots[i][s] = 0.0;
       if (walls)
         for (int s = 0; s < 6 * WALL_SLOT; s++) walls[i][s] = 0.0;
+      // Its travel starts at 0: any start would do for the skip (its pairs are new), but a
+      // stale one would differ with the rank count, and a large one would eat the margins.
+      if (travel) travel[i][0] = 0.0;
       grain[i][0] = draw_strength(ids[k], static_cast<int>(all[k].grain[2]), all[k].minus);
       grain[i][1] = all[k].grain[1];
       grain[i][2] = all[k].grain[2];

@@ -84,7 +84,7 @@ class FixFractumFracture : public Fix {
 
   double counts[4] = {0, 0, 0, 0};    // splits, grains broken, by Hoek-Brown, by contacts
   double **shape = nullptr, **quat = nullptr, **inertia = nullptr, **grain = nullptr;
-  double **slots = nullptr, **walls = nullptr;
+  double **slots = nullptr, **walls = nullptr, **travel = nullptr;
 
   void arrays();
   double draw_strength(tagint tag, int generation, const FractumBody &b);

@@ -65,9 +65,8 @@ const LENGTH_RATIO: f64 = 1.2;
 ///   plane with the larger tensile normal stress.)
 pub fn break_axis(semi: &[f64; 6], axes: &[Vec3; 3], trigger: &Trigger) -> Option<usize> {
     let max = |k: usize| semi[2 * k].max(semi[2 * k + 1]);
-    let min = |k: usize| semi[2 * k].min(semi[2 * k + 1]);
     let length = |k: usize| semi[2 * k] + semi[2 * k + 1];
-    let bad: Vec<usize> = (0..3).filter(|&k| min(k) < BAD_RATIO * max(k)).collect();
+    let bad = bad_axes(semi);
     let best = |candidates: &[usize]| {
         candidates
             .iter()
@@ -93,6 +92,22 @@ pub fn break_axis(semi: &[f64; 6], axes: &[Vec3; 3], trigger: &Trigger) -> Optio
         }
         _ => None,
     }
+}
+
+/// The axes whose two semi-axes have a bad ratio (the shorter below [`BAD_RATIO`] times the
+/// longer), in order.
+fn bad_axes(semi: &[f64; 6]) -> Vec<usize> {
+    let max = |k: usize| semi[2 * k].max(semi[2 * k + 1]);
+    let min = |k: usize| semi[2 * k].min(semi[2 * k + 1]);
+    (0..3).filter(|&k| min(k) < BAD_RATIO * max(k)).collect()
+}
+
+/// True when a grain of semi-axes `semi` cannot break whatever triggers it: [`break_axis`]
+/// is `None` for it, which depends on the shape alone (cases 2 and 4 of Section 3.3.3; every
+/// other case breaks along some axis). A host can skip such a grain's split before it asks.
+pub fn shape_forbids_breaking(semi: &[f64; 6]) -> bool {
+    let axes = [Vec3::x(), Vec3::y(), Vec3::z()];
+    break_axis(semi, &axes, &Trigger::Contacts { normal: Vec3::x() }).is_none()
 }
 
 /// The unit normal of the plane through the critical contact points (world): for three, the
@@ -197,6 +212,39 @@ mod tests {
     fn uniaxial_z() -> Trigger {
         Trigger::HoekBrown {
             stress: Matrix3::from_diagonal(&Vec3::new(0.0, -1e6, -5e6)),
+        }
+    }
+
+    /// Whether a shape breaks does not depend on the trigger or the axes: for shapes of each
+    /// case (no, one, two and three bad ratios, the two-bad case on both sides of the 1.2
+    /// length ratio), `shape_forbids_breaking` is `break_axis` being `None` under every one of
+    /// several triggers and rotated frames.
+    #[test]
+    fn a_shape_forbids_breaking_whatever_the_trigger() {
+        let shapes = [
+            [1.0, 0.8, 1.0, 0.9, 1.1, 1.0], // no bad ratio
+            [1.0, 0.1, 1.0, 0.9, 1.1, 1.0], // one
+            [1.0, 0.1, 1.0, 0.1, 3.0, 3.0], // two, the good axis long: breaks
+            [1.0, 0.1, 1.0, 0.1, 0.6, 0.5], // two, the good axis short: never
+            [1.0, 0.1, 1.0, 0.1, 1.0, 0.1], // three: never
+        ];
+        let forbidden: Vec<bool> = shapes.iter().map(shape_forbids_breaking).collect();
+        assert_eq!(forbidden, [false, false, false, true, true]);
+        let q = UnitQuaternion::from_euler_angles(0.4, -1.2, 2.2);
+        let turned = [q * Vec3::x(), q * Vec3::y(), q * Vec3::z()];
+        let triggers = [
+            uniaxial_z(),
+            Trigger::Contacts {
+                normal: Vec3::new(0.3, -0.2, 0.93).normalize(),
+            },
+            Trigger::Contacts { normal: Vec3::y() },
+        ];
+        for (semi, &never) in shapes.iter().zip(&forbidden) {
+            for frame in [&axes(), &turned] {
+                for t in &triggers {
+                    assert_eq!(break_axis(semi, frame, t).is_none(), never, "{semi:?}");
+                }
+            }
         }
     }
 

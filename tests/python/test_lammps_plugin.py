@@ -295,6 +295,8 @@ def test_one_and_two_ranks_agree_and_splits_conserve(tmp_path):
     assert report_two == report_one
     assert one.shape == two.shape
     assert np.array_equal(one[:, [0, 1, 2, 9]], two[:, [0, 1, 2, 9]])
+    # The travels too (the skip's sums: a new half's starts at 0, not at its slot's last value).
+    assert np.array_equal(one[:, -1], two[:, -1])
     children = one[one[:, 9] > 0]
     assert len(children) == splits and set(children[:, 0]) == set(range(112, 112 + int(splits)))
     box = 3e-3
