@@ -21,7 +21,7 @@ use fractum::contact::hertz_mindlin::{
 };
 use fractum::effects::contact::{
     BodyView, ContactBody, PairMemory, PairOut, Placement, bound_off_wall, bounds_apart, forget,
-    pair_contact, pair_contact_or_gap, pair_reach, skips, travel_step, wall_contact,
+    pair_contact_or_gap, pair_reach, skips, travel_step, wall_contact,
 };
 use fractum::fracture::break_plane::{self, Trigger};
 use fractum::fracture::cohesion::{self, Demand, Spring};
@@ -370,7 +370,7 @@ fn body_in(b: &FractumBody) -> Result<Body, FractumStatus> {
         Shape::Sphere
     } else {
         Shape::PolyEllipsoid {
-            pe: checked_semi(&b.semi)?,
+            pe: PolyEllipsoid::new(b.semi).map_err(|_| FRACTUM_ERR_INPUT)?,
             origin: Vec3::from(b.origin),
             to_body: quat(&b.to_body),
         }
@@ -722,35 +722,26 @@ fn placement_in(p: &FractumPlacement) -> Placement {
 
 /// The C ABI's body as the contact kernels read it, without building a library `Body`: its
 /// kinematics straight from the caller's struct, a poly-ellipsoid by its checked semi-axes and
-/// the placement given (the same bits as [`BodyView`] over `body_in` of it with that
-/// placement).
+/// the placement given, or else its own (the same bits as [`BodyView`] over `body_in` of it
+/// with that placement).
 struct RawBody<'a> {
     b: &'a FractumBody,
+    pe: PolyEllipsoid,
     place: Option<&'a FractumPlacement>,
 }
 
 impl<'a> RawBody<'a> {
-    /// `place` is read only for a poly-ellipsoid with `shapes` on (then it must be given).
+    /// `place` is read only for a poly-ellipsoid (`None`: placed as `Placement::of` places it).
     /// Refuses a poly-ellipsoid whose semi-axes are not finite and positive.
     #[inline(always)]
     fn new(b: &'a FractumBody, place: Option<&'a FractumPlacement>) -> Result<Self, FractumStatus> {
-        input_if(b.sphere == 0 && !semi_ok(&b.semi))?;
-        Ok(RawBody { b, place })
+        let pe = if b.sphere != 0 {
+            PolyEllipsoid::sphere(b.radius)
+        } else {
+            PolyEllipsoid::new(b.semi).map_err(|_| FRACTUM_ERR_INPUT)?
+        };
+        Ok(RawBody { b, pe, place })
     }
-}
-
-/// Each semi-axis finite and positive (`PolyEllipsoid::new`'s test, without its message: the
-/// kernels run per contact).
-#[inline(always)]
-fn semi_ok(semi: &[f64; 6]) -> bool {
-    semi.iter().all(|v| v.is_finite() && *v > 0.0)
-}
-
-/// The poly-ellipsoid of semi-axes `semi`, checked as `semi_ok`.
-#[inline(always)]
-fn checked_semi(semi: &[f64; 6]) -> Result<PolyEllipsoid, FractumStatus> {
-    input_if(!semi_ok(semi))?;
-    Ok(PolyEllipsoid { semi: *semi })
 }
 
 impl ContactBody for RawBody<'_> {
@@ -780,17 +771,57 @@ impl ContactBody for RawBody<'_> {
     }
     #[inline(always)]
     fn placed(&self) -> Placed<'_> {
-        match self.place {
-            Some(p) if self.b.sphere == 0 => Placed::poly_ellipsoid(
-                PolyEllipsoid::view(&self.b.semi),
-                Vec3::from(p.origin),
-                matrix(&p.rot),
-            ),
-            // Asked for only with shapes on and a poly-ellipsoid in the pair; a missing
-            // placement is refused before (pair_row).
-            _ => Placed::sphere(self.b.radius, Vec3::from(self.b.pos)),
+        if self.b.sphere != 0 {
+            return Placed::sphere(self.b.radius, Vec3::from(self.b.pos));
         }
+        let p = match self.place {
+            Some(p) => placement_in(p),
+            None => Placement::of(
+                &Vec3::from(self.b.pos),
+                &quat(&self.b.quat),
+                &Shape::PolyEllipsoid {
+                    pe: self.pe,
+                    origin: Vec3::from(self.b.origin),
+                    to_body: quat(&self.b.to_body),
+                },
+            ),
+        };
+        Placed::poly_ellipsoid(&self.pe, p.origin, p.rot)
     }
+}
+
+/// The contact of the pair (a, b), placed by `pa`, `pb` when given, as the run computes it:
+/// the library's bounding test first (most candidates of a neighbour list do not touch: then
+/// only what the library would forget, and the bounding spheres' gap), else the whole kernel
+/// (`pair_contact_or_gap`: the contact, or the gap of a separated pair). `hist` and `m` are
+/// the pair's memory.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn pair_of(
+    law: &FractumContactLaw,
+    k: &KernelConsts,
+    a: &FractumBody,
+    pa: Option<&FractumPlacement>,
+    b: &FractumBody,
+    pb: Option<&FractumPlacement>,
+    hist: &mut Vec3,
+    m: &mut PairMemory,
+    dt: f64,
+    update: bool,
+    shapes: bool,
+) -> Result<Result<PairOut, f64>, FractumStatus> {
+    let (xa, xb) = (Vec3::from(a.pos), Vec3::from(b.pos));
+    if bounds_apart(&xa, a.radius, &xb, b.radius) {
+        forget(hist, &mut m.radius, law.friction != 0, shapes);
+        return Ok(Err((xa - xb).norm() - (a.radius + b.radius)));
+    }
+    let (va, vb) = (RawBody::new(a, pa)?, RawBody::new(b, pb)?);
+    Ok(variants!(
+        law.damp != 0,
+        law.friction != 0,
+        shapes,
+        pair_contact_or_gap(k, &va, &vb, hist, m, dt, update)
+    ))
 }
 
 /// How far body `after` may have moved since it was `before` (the same body one drift
@@ -900,25 +931,25 @@ pub extern "C" fn fractum_kernel_pair_row(
             let touched = match travel {
                 Some(t) if skips(record[7], t[a], t[b]) => None,
                 _ => {
-                    let (pa, pb) = (Vec3::from(ba.pos), Vec3::from(bb.pos));
                     let mut hist = Vec3::new(record[0], record[1], record[2]);
                     let mut m = PairMemory {
                         normal: Vec3::new(record[3], record[4], record[5]),
                         radius: record[6],
                     };
-                    let result = if bounds_apart(&pa, ba.radius, &pb, bb.radius) {
-                        forget(&mut hist, &mut m.radius, law.friction != 0, shapes != 0);
-                        Err((pa - pb).norm() - (ba.radius + bb.radius))
-                    } else {
-                        let place = |x: usize| places.map(|ps| &ps[x]);
-                        let (va, vb) = (RawBody::new(ba, place(a))?, RawBody::new(bb, place(b))?);
-                        variants!(
-                            law.damp != 0,
-                            law.friction != 0,
-                            shapes != 0,
-                            pair_contact_or_gap(&k, &va, &vb, &mut hist, &mut m, dt, update != 0)
-                        )
-                    };
+                    let place = |x: usize| places.map(|ps| &ps[x]);
+                    let result = pair_of(
+                        law,
+                        &k,
+                        ba,
+                        place(a),
+                        bb,
+                        place(b),
+                        &mut hist,
+                        &mut m,
+                        dt,
+                        update != 0,
+                        shapes != 0,
+                    )?;
                     record[..3].copy_from_slice(hist.as_slice());
                     record[3..6].copy_from_slice(m.normal.as_slice());
                     record[6] = m.radius;
@@ -962,33 +993,25 @@ fn pair_in(
     let (a, b) = (get(a)?, get(b)?);
     let memory = get_mut(memory)?;
     let out = get_mut(out)?;
-    // Most candidates of a neighbour list do not touch: the library's bounding test first,
-    // before the bodies are built.
-    if bounds_apart(&Vec3::from(a.pos), a.radius, &Vec3::from(b.pos), b.radius) {
-        no_contact(law, shapes, memory, out);
-        return Ok(());
-    }
-    let (a, b) = (body_in(a)?, body_in(b)?);
-    let k = consts(law);
-    let view = |body, given: Option<&FractumPlacement>| match given {
-        Some(p) => BodyView {
-            body,
-            placement: placement_in(p),
-        },
-        None => BodyView::new(body),
-    };
-    let (va, vb) = (view(&a, pa), view(&b, pb));
     let mut hist = Vec3::from(memory.hist);
     let mut m = PairMemory {
         normal: Vec3::from(memory.normal),
         radius: memory.radius,
     };
-    let p = variants!(
-        law.damp != 0,
-        law.friction != 0,
+    let p = pair_of(
+        law,
+        &consts(law),
+        a,
+        pa,
+        b,
+        pb,
+        &mut hist,
+        &mut m,
+        dt,
+        update != 0,
         shapes != 0,
-        pair_contact(&k, &va, &vb, &mut hist, &mut m, dt, update != 0)
-    );
+    )?
+    .ok();
     *memory = FractumPairMemory {
         hist: hist.into(),
         normal: m.normal.into(),
@@ -1739,6 +1762,7 @@ mod tests {
     //! data (Bodies, placements): the same bits.
 
     use super::*;
+    use fractum::effects::contact::pair_contact;
     use fractum::effects::contact::{BodyAt, Placement};
     use fractum::fracture::MadeSpring;
     use fractum::state::Bodies;

@@ -21,35 +21,35 @@ use std::f64::consts::PI;
 use nalgebra::{Matrix3, Rotation3, SymmetricEigen, UnitQuaternion, Vector3};
 use serde::{Deserialize, Serialize};
 
-/// A poly-ellipsoid in its shape frame (paper Eq. 1–2). Laid out as its six semi-axes (the C
-/// ABI's kernels view a caller's `[f64; 6]` as one without copying: [`PolyEllipsoid::view`]).
+/// A poly-ellipsoid in its shape frame (paper Eq. 1–2).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[repr(transparent)]
 pub struct PolyEllipsoid {
     /// Semi-axis lengths `[a+, a-, b+, b-, c+, c-]` (m) along +x, -x, +y, -y, +z, -z.
     pub semi: [f64; 6],
 }
 
 impl PolyEllipsoid {
-    /// Checked constructor: every semi-axis length finite and positive.
+    /// Checked constructor: every semi-axis length finite and positive. Cheap when they are
+    /// (the C ABI's kernels check each body this way, per contact).
+    #[inline]
     pub fn new(semi: [f64; 6]) -> Result<Self, String> {
-        const NAMES: [&str; 6] = ["a+", "a-", "b+", "b-", "c+", "c-"];
-        for (value, name) in semi.iter().zip(NAMES) {
-            if !(value.is_finite() && *value > 0.0) {
-                return Err(format!(
-                    "poly-ellipsoid semi-axis {name} = {value} must be finite and > 0 (m)"
-                ));
-            }
+        if semi.iter().all(|v| v.is_finite() && *v > 0.0) {
+            Ok(PolyEllipsoid { semi })
+        } else {
+            Err(Self::refusal(&semi))
         }
-        Ok(PolyEllipsoid { semi })
     }
 
-    /// `semi` seen as a poly-ellipsoid, unchecked (the caller has checked each semi-axis
-    /// finite and positive, as [`PolyEllipsoid::new`] does).
-    #[inline(always)]
-    pub fn view(semi: &[f64; 6]) -> &PolyEllipsoid {
-        // SAFETY: PolyEllipsoid is #[repr(transparent)] over [f64; 6].
-        unsafe { &*(semi as *const [f64; 6]).cast::<PolyEllipsoid>() }
+    /// The sentence for the first semi-axis that is not finite and positive.
+    #[cold]
+    fn refusal(semi: &[f64; 6]) -> String {
+        const NAMES: [&str; 6] = ["a+", "a-", "b+", "b-", "c+", "c-"];
+        let (value, name) = semi
+            .iter()
+            .zip(NAMES)
+            .find(|(v, _)| !(v.is_finite() && **v > 0.0))
+            .expect("called for a bad semi-axis");
+        format!("poly-ellipsoid semi-axis {name} = {value} must be finite and > 0 (m)")
     }
 
     /// The sphere of radius `r` (all six semi-axes equal).
