@@ -61,14 +61,15 @@ void FixFractumNvePolyell::store(int i, const FractumBody &b)
     for (int k = 0; k < 4; k++) quat[i][k] = b.quat[k];
 }
 
-/* Advances every owned atom of the group by `step` (a kick-drift or a kick kernel). */
-void FixFractumNvePolyell::advance(Kernel step, const char *name)
+/* Advances every owned atom of the group by `step` (a kick-drift or a kick kernel); `drifts`:
+   the step moves the bodies. */
+void FixFractumNvePolyell::advance(Kernel step, const char *name, bool drifts)
 {
   arrays();
   int *mask = atom->mask;
   FractumBody b, before;
   // A drift moves the bodies: each one's travel grows by it (the pair's separated pairs' skip).
-  const bool moves = travel && quat && step == fractum_kernel_kick_drift;
+  const bool moves = drifts && travel && quat;
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(mask[i] & groupbit)) continue;
     fractum_body(atom, shape, quat, inertia, i, b);
@@ -102,7 +103,7 @@ void FixFractumNvePolyell::initial_integrate(int)
           atom->torque[i][k] = last[i][4 + k];
         }
   resume = false;
-  advance(fractum_kernel_kick_drift, "kick_drift");
+  advance(fractum_kernel_kick_drift, "kick_drift", true);
 }
 
 void FixFractumNvePolyell::post_integrate()
@@ -112,7 +113,7 @@ void FixFractumNvePolyell::post_integrate()
 
 void FixFractumNvePolyell::final_integrate()
 {
-  advance(fractum_kernel_kick, "kick");
+  advance(fractum_kernel_kick, "kick", false);
   if (last)
     for (int i = 0; i < atom->nlocal; i++) {
       last[i][0] = 1.0;

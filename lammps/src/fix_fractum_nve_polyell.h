@@ -32,7 +32,7 @@ class FixFractumNvePolyell : public Fix {
   typedef FractumStatus (*Kernel)(FractumBody *, const double *, const double *, double);
   void arrays();
   void store(int i, const FractumBody &b);
-  void advance(Kernel step, const char *name);
+  void advance(Kernel step, const char *name, bool drifts);
 };
 
 }    // namespace LAMMPS_NS
