@@ -269,3 +269,182 @@ fn local_damping(forces: &mut Forces, bodies: &Bodies) {
         }
     }
 }
+
+/// Compaction to a solid fraction: what to reach, and the grains' material.
+#[derive(Debug, Clone, Copy)]
+pub struct FractionSpec {
+    /// Young's modulus (Pa), Poisson's ratio and density (kg/m³) of the grains.
+    pub young: f64,
+    pub poisson: f64,
+    pub density: f64,
+    /// Verlet skin (m) of the neighbour list; `None`: the default.
+    pub skin: Option<f64>,
+    /// Box edge lengths (m) at which the grains fill the target fraction.
+    pub size: Vec3,
+}
+
+/// Why [`compact_to_fraction`] stopped short: the grains jammed first.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FractionJammed {
+    /// The solid fraction asked for.
+    pub target: f64,
+    /// The solid fraction at which the settled packing carried the jamming pressure.
+    pub reached: f64,
+}
+
+/// Largest wall speed while filling, as a strain of the box per step.
+const FILL_STRAIN_PER_STEP: f64 = 1e-5;
+/// The packing counts as jammed when, settled, it carries this fraction of E/(1 - ν²) (a
+/// relative Hertz overlap of about 5e-4): frictionless grains below jamming carry nothing
+/// once they stop moving.
+const JAM_PRESSURE_PER_MODULUS: f64 = 1e-5;
+/// Background viscous damping while compacting: velocities decay by e in this many steps
+/// (free-flying grains feel no contact damping).
+const DRAG_STEPS: f64 = 500.0;
+/// Settled: the mean grain speed is below this fraction of the largest wall speed.
+const SETTLED_SPEED: f64 = 1e-3;
+const FRACTION_MAX_STEPS: u64 = 2_000_000;
+
+/// Frictionless dynamic compaction to a solid fraction: the three upper faces of the box move
+/// in, each at most `FILL_STRAIN_PER_STEP` of its edge a step, until the box has `spec.size`;
+/// whenever the mean face stress exceeds the jamming pressure the faces wait for the grains to
+/// rearrange. Contacts are Hertz with viscous damping (restitution 0.3) and no friction;
+/// local damping and a background drag take out the kinetic energy. At the target size the
+/// faces hold until the grains are at rest. If the grains, settled, still carry the jamming
+/// pressure (before or at the target size), they are jammed: the error says at what fraction.
+/// The bodies end at rest and the faces fixed, with no contact history kept.
+pub fn compact_to_fraction(
+    bodies: &mut Bodies,
+    walls: &mut Walls,
+    spec: &FractionSpec,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<std::result::Result<CompactionReport, FractionJammed>> {
+    let shapes = bodies.shape.iter().any(|s| !s.is_sphere());
+    let params = ContactParams {
+        hertz: Hertz::new(spec.young, spec.poisson),
+        damping: Some(ViscousDamping::from_restitution(0.3)),
+        mindlin: None,
+        wall_friction: None,
+        skin: spec.skin,
+        shapes,
+    };
+    let smallest = (0..bodies.len())
+        .map(|i| {
+            let s = bodies.shape[i].semi_axes(bodies.radius[i]);
+            s.iter().copied().fold(f64::INFINITY, f64::min)
+        })
+        .fold(f64::INFINITY, f64::min);
+    let dt = 0.2 * rayleigh_time_step(smallest, spec.density, spec.young, spec.poisson);
+    let solid = bodies.solid_volume();
+    let target = spec.size;
+    let target_fraction = solid / (target.x * target.y * target.z);
+    let jam_pressure = JAM_PRESSURE_PER_MODULUS * spec.young / (1.0 - spec.poisson.powi(2));
+    let mut c = Compactor {
+        contact: build_contact(params),
+        vv: VelocityVerlet {
+            track_orientation: shapes,
+        },
+        forces: Forces::new(bodies.len()),
+        dt,
+        mean_r: bodies.radius.iter().sum::<f64>() / bodies.len() as f64,
+        pressure: jam_pressure,
+        steps: 0,
+    };
+    let ctx = StepContext {
+        dt,
+        update_history: true,
+    };
+    c.contact.accumulate(
+        &StepContext {
+            dt,
+            update_history: false,
+        },
+        bodies,
+        walls,
+        &mut c.forces,
+    );
+    progress(&format!(
+        "compacting {} grains without friction to solid fraction {target_fraction:.3} (time step {dt:.3e} s)",
+        bodies.len()
+    ));
+    let start = walls.box_size();
+    let wall_speed = FILL_STRAIN_PER_STEP * start.max() / dt;
+    let drag = (-1.0 / DRAG_STEPS).exp();
+    let mut waited = 0u64;
+    loop {
+        c.steps += 1;
+        let size = walls.box_size();
+        let mean_stress = AXES
+            .iter()
+            .map(|(lo, hi)| 0.5 * (walls.face_stress(*lo) + walls.face_stress(*hi)))
+            .sum::<f64>()
+            / 3.0;
+        let pushing = mean_stress < jam_pressure;
+        let mut at_target = true;
+        for (a, (_, hi)) in AXES.iter().enumerate() {
+            let left = size[a] - target[a];
+            let speed = if left > 0.0 && pushing {
+                (FILL_STRAIN_PER_STEP * start[a] / dt).min(left / dt)
+            } else {
+                0.0
+            };
+            at_target &= left <= 1e-12 * target[a];
+            let wall = walls.face_mut(*hi);
+            wall.velocity = wall.normal * speed;
+        }
+        c.vv.kick_drift(bodies, &c.forces, dt);
+        walls.advance(dt);
+        c.forces.clear();
+        walls.clear_forces();
+        c.contact.accumulate(&ctx, bodies, walls, &mut c.forces);
+        local_damping(&mut c.forces, bodies);
+        c.vv.kick(bodies, &c.forces, dt);
+        for (v, w) in bodies.vel.iter_mut().zip(bodies.omega.iter_mut()) {
+            *v *= drag;
+            *w *= drag;
+        }
+        waited = if pushing && !at_target { 0 } else { waited + 1 };
+        if c.steps % CHECK_EVERY != 0 {
+            continue;
+        }
+        if bodies.first_non_finite().is_some() {
+            return Err(Error::run(
+                "compaction to a solid fraction became unstable (non-finite positions)",
+            ));
+        }
+        let mean_speed = bodies.vel.iter().map(|v| v.norm()).sum::<f64>() / bodies.len() as f64;
+        let settled = waited >= CHECK_EVERY && mean_speed < SETTLED_SPEED * wall_speed;
+        let now = walls.box_size();
+        let fraction = solid / (now.x * now.y * now.z);
+        if c.steps % (50 * CHECK_EVERY) == 0 {
+            progress(&format!(
+                "compacting: step {}, solid fraction {fraction:.4}, mean stress {mean_stress:.3e} Pa",
+                c.steps
+            ));
+        }
+        if settled && mean_stress >= jam_pressure {
+            return Ok(Err(FractionJammed {
+                target: target_fraction,
+                reached: fraction,
+            }));
+        }
+        if settled && at_target {
+            for i in 0..bodies.len() {
+                bodies.vel[i] = Vec3::zeros();
+                bodies.omega[i] = Vec3::zeros();
+            }
+            for w in &mut walls.walls {
+                w.velocity = Vec3::zeros();
+            }
+            let report = c.measure(bodies, walls);
+            walls.clear_forces();
+            return Ok(Ok(report));
+        }
+        if c.steps >= FRACTION_MAX_STEPS {
+            return Err(Error::run(format!(
+                "compaction to solid fraction {target_fraction:.3} did not settle in {} steps (solid fraction {fraction:.4}, mean stress {mean_stress:.3e} Pa)",
+                c.steps
+            )));
+        }
+    }
+}

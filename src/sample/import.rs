@@ -184,6 +184,108 @@ pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
     Ok(p)
 }
 
+/// One grain of an ellipsoid assembly: semi-axes a, b, c (m), centre (m), and the world
+/// directions of its a, b and c axes (the columns of `axes`, shape to world).
+#[derive(Debug, Clone, Copy)]
+pub struct EllipsoidGrain {
+    pub semi: [f64; 3],
+    pub centre: Vec3,
+    pub axes: nalgebra::Rotation3<f64>,
+}
+
+/// The columns of an ellipsoid assembly file, in order.
+pub const ELLIPSOID_COLUMNS: [&str; 16] = [
+    "id",
+    "radius_a_m",
+    "radius_b_m",
+    "radius_c_m",
+    "x_m",
+    "y_m",
+    "z_m",
+    "angle_a_x",
+    "angle_a_y",
+    "angle_a_z",
+    "angle_b_x",
+    "angle_b_y",
+    "angle_b_z",
+    "angle_c_x",
+    "angle_c_y",
+    "angle_c_z",
+];
+
+/// Reads an ellipsoid assembly: a CSV file with the header [`ELLIPSOID_COLUMNS`], one grain a
+/// row (ellip3d's particle file as data/mason_sand_shpb/ carries it): semi-axes (m), centre
+/// (m) and the angles (rad) between each principal axis and the global x, y and z axes. The
+/// cosines of a row's angles are its axes' direction cosines; rounded in the file, they are
+/// orthonormal to a few parts in 10⁶ only, so each grain's rotation is the nearest rotation to
+/// them (`Rotation3::from_matrix`, converged to 1e-15). A row whose cosines are further than
+/// 1e-3 from a right-handed orthonormal frame is refused.
+pub fn read_ellipsoid_assembly(path: &Path) -> Result<Vec<EllipsoidGrain>, String> {
+    let text = read(path)?;
+    let mut lines = text.lines().enumerate();
+    let header = loop {
+        match lines.next() {
+            Some((_, l)) if l.trim().is_empty() || l.trim_start().starts_with('#') => continue,
+            Some((_, l)) => break l,
+            None => return Err("holds no grains".to_string()),
+        }
+    };
+    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    if names != ELLIPSOID_COLUMNS {
+        return Err(format!(
+            "line 1: expected the header `{}`",
+            ELLIPSOID_COLUMNS.join(",")
+        ));
+    }
+    let mut grains = Vec::new();
+    for (k, line) in lines {
+        let ln = k + 1;
+        let line = line.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let toks: Vec<&str> = line.split(',').map(str::trim).collect();
+        if toks.len() != ELLIPSOID_COLUMNS.len() {
+            return Err(format!(
+                "line {ln}: expected {} values, found {}",
+                ELLIPSOID_COLUMNS.len(),
+                toks.len()
+            ));
+        }
+        let v: Vec<f64> = toks
+            .iter()
+            .zip(ELLIPSOID_COLUMNS)
+            .skip(1)
+            .map(|(t, name)| number(t, ln, name))
+            .collect::<Result<_, _>>()?;
+        let semi = [v[0], v[1], v[2]];
+        if let Some(bad) = semi.iter().find(|&&s| s <= 0.0) {
+            return Err(format!(
+                "line {ln}: semi-axis {bad} is outside the allowed range (0, ∞) m"
+            ));
+        }
+        let centre = Vec3::new(v[3], v[4], v[5]);
+        // Column j of the shape-to-world matrix is the world direction of axis j (a, b, c).
+        let m = nalgebra::Matrix3::from_fn(|row, col| v[6 + 3 * col + row].cos());
+        let ortho = (m.transpose() * m - nalgebra::Matrix3::identity())
+            .abs()
+            .max();
+        if ortho > 1e-3 || m.determinant() <= 0.0 {
+            return Err(format!(
+                "line {ln}: the axes' direction cosines are not a right-handed orthonormal frame (off by {ortho:.1e}, determinant {:.4})",
+                m.determinant()
+            ));
+        }
+        let axes =
+            nalgebra::Rotation3::from_matrix_eps(&m, 1e-15, 100, nalgebra::Rotation3::identity());
+        grains.push(EllipsoidGrain { semi, centre, axes });
+    }
+    if grains.is_empty() {
+        return Err("holds no grains".to_string());
+    }
+    Ok(grains)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -206,6 +308,40 @@ mod tests {
             p.velocities,
             vec![(0, Vec3::new(1.0, 0.0, 0.0)), (1, Vec3::new(0.0, 2.0, 0.0))]
         );
+    }
+
+    #[test]
+    fn ellipsoid_assembly_rows_and_refusals() {
+        let dir = tempfile::tempdir().unwrap();
+        let f = dir.path().join("g.csv");
+        let header = ELLIPSOID_COLUMNS.join(",");
+        let h = std::f64::consts::FRAC_PI_2;
+        // a along y, b along -x, c along z: a quarter turn about z.
+        let row = format!(
+            "1,3e-4,2e-4,1e-4,1e-3,2e-3,3e-3,{h},0,{h},{},{h},{h},{h},{h},0",
+            2.0 * h
+        );
+        std::fs::write(&f, format!("{header}\n{row}\n")).unwrap();
+        let g = read_ellipsoid_assembly(&f).unwrap();
+        assert_eq!(g.len(), 1);
+        assert_eq!(g[0].semi, [3e-4, 2e-4, 1e-4]);
+        assert_eq!(g[0].centre, Vec3::new(1e-3, 2e-3, 3e-3));
+        let a = g[0].axes * Vec3::x();
+        assert!((a - Vec3::y()).norm() < 1e-15, "{a}");
+        let b = g[0].axes * Vec3::y();
+        assert!((b + Vec3::x()).norm() < 1e-15, "{b}");
+        // A non-positive semi-axis is refused, as is a left-handed frame.
+        std::fs::write(
+            &f,
+            format!("{header}\n{}\n", row.replace("3e-4,2e-4", "-3e-4,2e-4")),
+        )
+        .unwrap();
+        let e = read_ellipsoid_assembly(&f).unwrap_err();
+        assert!(e.starts_with("line 2: semi-axis -0.0003"), "{e}");
+        let left = format!("1,3e-4,2e-4,1e-4,0,0,0,{h},0,{h},0,{h},{h},{h},{h},0");
+        std::fs::write(&f, format!("{header}\n{left}\n")).unwrap();
+        let e = read_ellipsoid_assembly(&f).unwrap_err();
+        assert!(e.contains("right-handed"), "{e}");
     }
 
     #[test]

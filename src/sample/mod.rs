@@ -23,8 +23,13 @@ use serde::{Deserialize, Serialize};
 use crate::shape::sphere_volume;
 use crate::state::{Bodies, Vec3, Walls};
 
-pub use compaction::{CompactionReport, CompactionSpec, compact_to_pressure};
-pub use import::{read_lammps_data, read_text_packing};
+pub use compaction::{
+    CompactionReport, CompactionSpec, FractionJammed, FractionSpec, compact_to_fraction,
+    compact_to_pressure,
+};
+pub use import::{
+    ELLIPSOID_COLUMNS, EllipsoidGrain, read_ellipsoid_assembly, read_lammps_data, read_text_packing,
+};
 pub use lattice::{hcp_positions, simple_cubic_positions};
 pub use random_pack::{PackReport, pack_geometric};
 

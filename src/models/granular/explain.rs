@@ -2,7 +2,7 @@
 
 use std::fmt::Write;
 
-use super::scene::{EFFECTS, GranularScene, LoadingKind, SampleKind};
+use super::scene::{EFFECTS, GrainShape, GranularScene, LoadingKind, SampleKind};
 use crate::error::Result;
 use crate::explain::write_pipeline;
 use crate::scene::{DtSpec, EffectKind, Scene};
@@ -121,7 +121,36 @@ fn describe_fracture(scene: &Scene, cfg: &GranularScene) -> String {
 
 fn describe_sample(cfg: &GranularScene) -> String {
     let p = &cfg.sample;
+    let method = match super::scene::packing(p) {
+        super::scene::Packing::Geometric => {
+            "packed without overlap by growth and collective rearrangement (He et al. 1999)"
+        }
+        super::scene::Packing::Compaction => {
+            "placed at a low solid fraction (bounding spheres at 0.4), then compressed by the box's faces without friction to the fraction (friction restored for loading)"
+        }
+    };
     match p.kind {
+        SampleKind::Random if p.shape == Some(GrainShape::Ellipsoid) => {
+            let count = match (p.count, p.solid_fraction) {
+                (Some(n), _) => format!("{n} ellipsoid grains"),
+                (None, Some(phi)) => format!("ellipsoid grains filling solid fraction {phi}"),
+                _ => String::new(),
+            };
+            format!(
+                "random packing of {count}, semi-axes drawn (uniformly, with replacement) from the grains of {}, orientations {}, box {:?} m, {method}",
+                p.grain_file.as_deref().unwrap_or(""),
+                if p.orientations == Some(super::scene::Orientations::Aligned) {
+                    "aligned"
+                } else {
+                    "random"
+                },
+                p.box_size.unwrap_or_default()
+            )
+        }
+        SampleKind::EllipsoidAssembly => format!(
+            "ellipsoid assembly {} imported as it is (semi-axes, centres, orientations), in the box its grains span",
+            p.file.as_deref().unwrap_or("")
+        ),
         SampleKind::Random => {
             let (mean, sd, min, max) = super::sample::radius_bounds(cfg);
             let count = match (p.count, p.solid_fraction) {
@@ -130,7 +159,7 @@ fn describe_sample(cfg: &GranularScene) -> String {
                 _ => String::new(),
             };
             let mut s = format!(
-                "random packing of {count}, radii truncated normal (mean {mean:e} m, sd {sd:e} m, in [{min:e}, {max:e}] m), box {:?} m",
+                "random packing of {count}, radii truncated normal (mean {mean:e} m, sd {sd:e} m, in [{min:e}, {max:e}] m), box {:?} m, {method}",
                 p.box_size.unwrap_or_default()
             );
             if let Some(pr) = p.pressure {

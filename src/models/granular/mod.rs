@@ -179,7 +179,11 @@ pub fn contact_params(scene: &Scene, cfg: &GranularScene, friction: Option<f64>)
         wall_friction: cfg.walls.friction,
         skin: cfg.neighbor.skin,
         shapes: scene.has_effect(EffectKind::Fracture)
-            || cfg.sample.shape == Some(scene::GrainShape::PolyEllipsoid),
+            || matches!(
+                cfg.sample.shape,
+                Some(scene::GrainShape::PolyEllipsoid | scene::GrainShape::Ellipsoid)
+            )
+            || cfg.sample.kind == scene::SampleKind::EllipsoidAssembly,
     }
 }
 
@@ -558,21 +562,42 @@ impl Granular {
         }
     }
 
-    /// `stress_at_strain`: the axial stress (Pa) at the report strains of an oedometer run.
+    /// The stresses (Pa, compression positive) at the report strains of an oedometer run:
+    /// `stress_at_strain` the axial stress (mean of the driven and the opposite face),
+    /// `stress_driven_at_strain` and `stress_opposite_at_strain` each face's own (an SHPB's
+    /// one-wave stress is the opposite face's, on the transmitted bar), and
+    /// `stress_lateral_at_strain` the mean of the four side faces (a sleeve's radial stress).
     fn stress_summary(&self, series: &Series, m: &mut Map<String, Value>) {
         let strains = self.report_strains();
-        if !strains.is_empty() {
-            let (eps, axial) = (
-                series.column("axial_strain").unwrap_or_default(),
-                axial_stress_column(series),
-            );
+        if strains.is_empty() {
+            return;
+        }
+        let eps = series.column("axial_strain").unwrap_or_default();
+        let (x, y) = (
+            series.column("stress_lateral_x").unwrap_or_default(),
+            series.column("stress_lateral_y").unwrap_or_default(),
+        );
+        let lateral: Vec<f64> = x.iter().zip(&y).map(|(a, b)| 0.5 * (a + b)).collect();
+        let columns = [
+            ("stress_at_strain", axial_stress_column(series)),
+            (
+                "stress_driven_at_strain",
+                series.column("stress_driven").unwrap_or_default(),
+            ),
+            (
+                "stress_opposite_at_strain",
+                series.column("stress_opposite").unwrap_or_default(),
+            ),
+            ("stress_lateral_at_strain", lateral),
+        ];
+        for (key, column) in columns {
             let mut at = serde_json::Map::new();
             for e in &strains {
-                if let Some(v) = interpolate(&eps, &axial, *e) {
+                if let Some(v) = interpolate(&eps, &column, *e) {
                     at.insert(format!("{e}"), v.into());
                 }
             }
-            m.insert("stress_at_strain".into(), Value::Object(at));
+            m.insert(key.into(), Value::Object(at));
         }
     }
 

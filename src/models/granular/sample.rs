@@ -5,15 +5,17 @@ use nalgebra::UnitQuaternion;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
-use super::scene::{GrainShape, GranularScene, Orientations, SampleKind};
+use super::scene::{GrainShape, GranularScene, Orientations, Packing, SampleKind};
 use crate::error::Result;
 use crate::sample::{
-    CompactionSpec, STREAM_ORIENTATIONS, STREAM_POSITIONS, STREAM_RADII, STREAM_SHAPES, Sample,
-    SampleInfo, bounding_box, compact_to_pressure, hcp_positions, pack_geometric,
-    random_orientation, read_lammps_data, read_text_packing, simple_cubic_positions, stream,
+    CompactionSpec, EllipsoidGrain, FractionSpec, STREAM_ORIENTATIONS, STREAM_POSITIONS,
+    STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box, compact_to_fraction,
+    compact_to_pressure, hcp_positions, pack_geometric, random_orientation,
+    read_ellipsoid_assembly, read_lammps_data, read_text_packing, simple_cubic_positions, stream,
     truncated_normal_radii,
 };
 use crate::scene::Scene;
+use crate::scene::validate::check_bodies;
 use crate::shape::{PolyEllipsoid, sphere_volume};
 use crate::state::{Bodies, Vec3, Walls};
 
@@ -76,8 +78,17 @@ pub fn build(
     let spec = &cfg.sample;
     let rho = cfg.material.density;
     let mut orient = stream(scene.seed, STREAM_ORIENTATIONS);
+    let compacted =
+        spec.kind == SampleKind::Random && super::scene::packing(spec) == Packing::Compaction;
+    let mut compaction_steps = 0;
     let (mut bodies, mut walls) = match spec.kind {
+        SampleKind::Random if compacted => {
+            let (b, w, steps) = compacted_sample(scene, cfg, &mut orient, progress)?;
+            compaction_steps = steps;
+            (b, w)
+        }
         SampleKind::Random => random_sample(scene, cfg, progress)?,
+        SampleKind::EllipsoidAssembly => ellipsoid_assembly(scene, cfg)?,
         SampleKind::SimpleCubic | SampleKind::Hcp => {
             let r = spec.radius_mean.expect("validated");
             let layers = spec.layers.expect("validated");
@@ -125,7 +136,12 @@ pub fn build(
     } else {
         Orientations::Aligned
     };
-    if spec.kind != SampleKind::Single
+    let own_orientations = compacted
+        || matches!(
+            spec.kind,
+            SampleKind::Single | SampleKind::EllipsoidAssembly
+        );
+    if !own_orientations
         && spec.orientations.unwrap_or(default_orientations) == Orientations::Random
     {
         for q in &mut bodies.orientation {
@@ -135,7 +151,6 @@ pub fn build(
     if spec.shape == Some(GrainShape::PolyEllipsoid) {
         bodies = poly_ellipsoids_in_spheres(scene, cfg, &bodies);
     }
-    let mut compaction_steps = 0;
     if let Some(p) = spec.pressure {
         let m = &cfg.material;
         let spec = CompactionSpec {
@@ -147,7 +162,7 @@ pub fn build(
             friction: spec.compaction_friction.unwrap_or(m.friction),
         };
         let report = compact_to_pressure(&mut bodies, &mut walls, &spec, progress)?;
-        compaction_steps = report.steps;
+        compaction_steps += report.steps;
     }
     let size = walls.box_size();
     let info = SampleInfo {
@@ -163,6 +178,187 @@ pub fn build(
         info,
     })
 }
+
+/// An ellipsoid of semi-axes a, b, c as a poly-ellipsoid with equal halves.
+fn ellipsoid(semi: [f64; 3]) -> std::result::Result<PolyEllipsoid, String> {
+    PolyEllipsoid::new([semi[0], semi[0], semi[1], semi[1], semi[2], semi[2]])
+}
+
+fn read_grains(scene: &Scene, key: &str, file: &str) -> Result<Vec<EllipsoidGrain>> {
+    read_ellipsoid_assembly(&scene.resolve(file))
+        .map_err(|m| scene.key_error(key, format!("= \"{file}\": {m}")))
+}
+
+/// `kind = "ellipsoid_assembly"`: the file's grains as they are (semi-axes, centres, axes), in
+/// the box their extents span.
+fn ellipsoid_assembly(scene: &Scene, cfg: &GranularScene) -> Result<(Bodies, Walls)> {
+    let file = cfg.sample.file.as_deref().expect("validated");
+    let grains = read_grains(scene, "sample.file", file)?;
+    check_bodies(scene, "sample.file", grains.len() as f64, "grains")?;
+    let rho = cfg.material.density;
+    let mut b = Bodies::default();
+    let (mut lo, mut hi) = (Vec3::repeat(f64::INFINITY), Vec3::repeat(f64::NEG_INFINITY));
+    for g in &grains {
+        let pe = ellipsoid(g.semi).map_err(|m| scene.key_error("sample.file", m))?;
+        let q = UnitQuaternion::from_rotation_matrix(&g.axes);
+        b.push_poly_ellipsoid(pe, rho * pe.volume(), g.centre, q);
+        // Half-extent along world axis k: |(a R_k0, b R_k1, c R_k2)|.
+        let m = g.axes.matrix();
+        let ext = Vec3::from_fn(|k, _| {
+            ((g.semi[0] * m[(k, 0)]).powi(2)
+                + (g.semi[1] * m[(k, 1)]).powi(2)
+                + (g.semi[2] * m[(k, 2)]).powi(2))
+            .sqrt()
+        });
+        lo = lo.inf(&(g.centre - ext));
+        hi = hi.sup(&(g.centre + ext));
+    }
+    Ok((b, Walls::new_box(lo, hi)))
+}
+
+/// A random sample packed by compaction (`packing = "compaction"`): grains drawn (spheres
+/// from the radius distribution, or ellipsoids from `grain_file`'s semi-axes, uniformly with
+/// replacement) until they fill `solid_fraction` of `box`; their bounding spheres packed
+/// without overlap at solid fraction 0.4 in a box of the same shape, enlarged; turned at
+/// random (or aligned); then compressed without friction to `box` by
+/// [`compact_to_fraction`]. One sentence if they jam first.
+fn compacted_sample(
+    scene: &Scene,
+    cfg: &GranularScene,
+    orient: &mut ChaCha8Rng,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<(Bodies, Walls, u64)> {
+    let s = &cfg.sample;
+    let size = Vec3::from(s.box_size.expect("validated"));
+    let box_volume = size.x * size.y * size.z;
+    let mut rng = stream(scene.seed, STREAM_RADII);
+    // Each grain as semi-axes (a, b, c); spheres have a = b = c.
+    let grains: Vec<[f64; 3]> = if s.shape == Some(GrainShape::Ellipsoid) {
+        let file = s.grain_file.as_deref().expect("validated");
+        let pool = read_grains(scene, "sample.grain_file", file)?;
+        let volume = |g: &[f64; 3]| 4.0 / 3.0 * std::f64::consts::PI * g[0] * g[1] * g[2];
+        let mean = pool.iter().map(|g| volume(&g.semi)).sum::<f64>() / pool.len() as f64;
+        if let (None, Some(phi)) = (s.count, s.solid_fraction) {
+            check_bodies(
+                scene,
+                "sample.box",
+                phi * box_volume / mean,
+                "grains at that solid fraction",
+            )?;
+        }
+        let mut out = Vec::new();
+        let mut v = 0.0;
+        loop {
+            let enough = match (s.count, s.solid_fraction) {
+                (Some(n), _) => out.len() >= n,
+                (None, Some(phi)) => v >= phi * box_volume,
+                (None, None) => unreachable!("validated"),
+            };
+            if enough {
+                break out;
+            }
+            let g = pool[rng.random_range(0..pool.len())].semi;
+            v += volume(&g);
+            out.push(g);
+        }
+    } else {
+        let (mean, sd, min, max) = radius_bounds(cfg);
+        let radii = match (s.count, s.solid_fraction) {
+            (Some(n), _) => truncated_normal_radii(&mut rng, mean, sd, min, max, |k, _| k < n),
+            (None, Some(phi)) => {
+                truncated_normal_radii(&mut rng, mean, sd, min, max, |_, v| v < phi * box_volume)
+            }
+            (None, None) => unreachable!("validated"),
+        };
+        radii.into_iter().map(|r| [r; 3]).collect()
+    };
+    let solid: f64 = grains
+        .iter()
+        .map(|g| 4.0 / 3.0 * std::f64::consts::PI * g[0] * g[1] * g[2])
+        .sum();
+    // With both a count and a fraction the box keeps its shape, scaled to the fraction.
+    let target = match (s.count, s.solid_fraction) {
+        (Some(_), Some(phi)) => size * (solid / phi / box_volume).cbrt(),
+        _ => size,
+    };
+    let bounding: Vec<f64> = grains.iter().map(|g| g[0].max(g[1]).max(g[2])).collect();
+    let rmax = bounding.iter().copied().fold(0.0, f64::max);
+    if (0..3).any(|a| target[a] <= 2.0 * rmax) {
+        return Err(scene.key_error(
+            "sample.box",
+            format!(
+                "is too small for the largest grain (semi-axis {rmax:e} m): each edge must exceed its length"
+            ),
+        ));
+    }
+    let spheres: f64 = bounding.iter().map(|&r| sphere_volume(r)).sum();
+    let start = target
+        * (spheres / START_FRACTION / (target.x * target.y * target.z))
+            .cbrt()
+            .max(1.0);
+    progress(&format!(
+        "placing {} grains (their bounding spheres at solid fraction {START_FRACTION}) before compaction",
+        grains.len()
+    ));
+    let mut prng = stream(scene.seed, STREAM_POSITIONS);
+    let (pos, _) = pack_geometric(&bounding, Vec3::zeros(), start, &mut prng).map_err(|j| {
+        scene.key_error(
+            "sample.box",
+            format!(
+                "could not place the grains before compaction: their bounding spheres jammed at {:.3}",
+                j.reached
+            ),
+        )
+    })?;
+    let random = s.orientations.unwrap_or(Orientations::Random) == Orientations::Random;
+    let rho = cfg.material.density;
+    let mut b = Bodies::default();
+    for (p, g) in pos.into_iter().zip(&grains) {
+        let q = if random {
+            random_orientation(orient)
+        } else {
+            UnitQuaternion::identity()
+        };
+        if g[0] == g[1] && g[1] == g[2] {
+            b.push_sphere(p, g[0], rho, q);
+        } else {
+            let pe = ellipsoid(*g).map_err(|m| scene.key_error("sample.grain_file", m))?;
+            b.push_poly_ellipsoid(pe, rho * pe.volume(), p, q);
+        }
+    }
+    let order = b.spatial_order(2.0 * rmax);
+    b.reorder(&order);
+    let mut walls = Walls::new_box(Vec3::zeros(), start);
+    let m = &cfg.material;
+    let spec = FractionSpec {
+        young: m.young,
+        poisson: m.poisson(),
+        density: m.density,
+        skin: cfg.neighbor.skin,
+        size: target,
+    };
+    let report = compact_to_fraction(&mut b, &mut walls, &spec, progress)?.map_err(|j| {
+        scene.key_error(
+            "sample.solid_fraction",
+            format!(
+                "= {:.3} is beyond what frictionless compaction of these grains reaches: they jammed at about {:.3}; ask for at most that, or use more grains (the loose layer along the walls lowers what small boxes reach)",
+                j.target, j.reached
+            ),
+        )
+    })?;
+    progress(&format!(
+        "compacted in {} steps: solid fraction {:.4}, face stresses {:.3e} {:.3e} {:.3e} Pa",
+        report.steps,
+        b.solid_volume() / (target.x * target.y * target.z),
+        report.stresses[0],
+        report.stresses[1],
+        report.stresses[2]
+    ));
+    Ok((b, walls, report.steps))
+}
+
+/// Solid fraction of the grains' bounding spheres when they are placed for compaction.
+const START_FRACTION: f64 = 0.4;
 
 /// The radius bounds of a random sample: the scene's, or mean ± 3 sd (at least 1% of the
 /// mean).

@@ -54,6 +54,9 @@ pub enum SampleKind {
     YadeText,
     /// One grain (`semi_axes`) resting on the bottom of a box whose top touches it.
     Single,
+    /// An ellipsoid assembly file (CSV: semi-axes, centre and axis angles a grain), imported
+    /// as it is, in the box its grains span.
+    EllipsoidAssembly,
 }
 
 impl SampleKind {
@@ -66,6 +69,7 @@ impl SampleKind {
             SampleKind::LammpsData => "lammps_data",
             SampleKind::YadeText => "yade_text",
             SampleKind::Single => "single",
+            SampleKind::EllipsoidAssembly => "ellipsoid_assembly",
         }
     }
 }
@@ -82,6 +86,31 @@ pub enum Orientations {
 pub enum GrainShape {
     Sphere,
     PolyEllipsoid,
+    /// Ellipsoids (poly-ellipsoids with equal halves) whose semi-axes are drawn from the
+    /// grains of `grain_file`.
+    Ellipsoid,
+}
+
+/// How a random sample reaches its solid fraction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Packing {
+    /// Growth and collective rearrangement of spheres, no overlap (spheres and
+    /// poly-ellipsoids inscribed in them; jams near 0.6 in small boxes).
+    Geometric,
+    /// Grains placed at a low solid fraction, then compressed by the box's faces without
+    /// friction until they fill the fraction; friction is the material's again from the
+    /// first loading step (the default, and the only method, for ellipsoid grains).
+    Compaction,
+}
+
+impl Packing {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Packing::Geometric => "geometric",
+            Packing::Compaction => "compaction",
+        }
+    }
 }
 
 /// How the sample is made. Which keys apply depends on `kind`; see docs/scenes.md.
@@ -116,8 +145,14 @@ pub struct SampleSpec {
     /// Orientation of the grains' principal directions: "random" (uniform; the default for
     /// random packings) or "aligned" with the box axes (the default for the other kinds).
     pub orientations: Option<Orientations>,
-    /// Grain shape of random packings: "sphere" (default) or "poly_ellipsoid".
+    /// Grain shape of random packings: "sphere" (default), "poly_ellipsoid" or "ellipsoid".
     pub shape: Option<GrainShape>,
+    /// Ellipsoid assembly file (CSV, relative to the scene file) whose grains' semi-axes
+    /// `shape = "ellipsoid"` draws from.
+    pub grain_file: Option<String>,
+    /// How a random sample reaches `solid_fraction`: "geometric" (default for spheres and
+    /// poly-ellipsoids) or "compaction" (default for ellipsoids).
+    pub packing: Option<Packing>,
     /// Poly-ellipsoids of random packings: each semi-axis is drawn uniformly in
     /// [r / aspect_ratio_max, r] for a packed sphere of radius r; in [1, 4], default 2.
     pub aspect_ratio_max: Option<f64>,
@@ -316,6 +351,9 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
     let kind = p.kind.as_str();
     let why = format!("for sample.kind = \"{kind}\"");
     match p.kind {
+        SampleKind::Random if p.shape == Some(GrainShape::Ellipsoid) => {
+            validate_ellipsoid_sample(s, p)?;
+        }
         SampleKind::Random => {
             let mean = require(s, "sample.radius_mean", p.radius_mean, &why)?;
             check(s, "sample.radius_mean", mean, Range::POSITIVE, "m")?;
@@ -357,13 +395,7 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
                 check_bodies(s, "sample.count", n as f64, "spheres")?;
             }
             if let Some(phi) = p.solid_fraction {
-                check(
-                    s,
-                    "sample.solid_fraction",
-                    phi,
-                    Range::open_closed(0.0, 0.65),
-                    "",
-                )?;
+                check_solid_fraction(s, p, phi)?;
                 if p.count.is_none() {
                     let grain = 4.0 / 3.0 * std::f64::consts::PI * mean.powi(3);
                     let n = phi * bx[0] * bx[1] * bx[2] / grain;
@@ -396,7 +428,10 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
             let n = layers.iter().map(|&l| l as f64).product::<f64>();
             check_bodies(s, "sample.layers", n, "spheres")?;
         }
-        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => {
+        SampleKind::Text
+        | SampleKind::LammpsData
+        | SampleKind::YadeText
+        | SampleKind::EllipsoidAssembly => {
             if p.file.is_none() {
                 return Err(s.key_error("sample.file", format!("is required {why}")));
             }
@@ -428,13 +463,118 @@ fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
     if let Some(a) = p.aspect_ratio_max {
         check(s, "sample.aspect_ratio_max", a, Range::closed(1.0, 4.0), "")?;
     }
-    if p.shape == Some(GrainShape::PolyEllipsoid) && p.kind != SampleKind::Random {
+    let shape = match p.shape {
+        Some(GrainShape::PolyEllipsoid) => Some("poly_ellipsoid"),
+        Some(GrainShape::Ellipsoid) => Some("ellipsoid"),
+        _ => None,
+    };
+    if let (Some(shape), true) = (shape, p.kind != SampleKind::Random) {
         return Err(s.key_error(
             "sample.shape",
+            format!("= \"{shape}\" applies to sample.kind = \"random\" only, not \"{kind}\""),
+        ));
+    }
+    if p.grain_file.is_some() && p.shape != Some(GrainShape::Ellipsoid) {
+        return Err(s.key_error(
+            "sample.grain_file",
+            "applies to sample.shape = \"ellipsoid\" only (the grains' semi-axes are drawn from it)",
+        ));
+    }
+    if let (Some(packing), true) = (p.packing, p.kind != SampleKind::Random) {
+        return Err(s.key_error(
+            "sample.packing",
             format!(
-                "= \"poly_ellipsoid\" applies to sample.kind = \"random\" only, not \"{kind}\""
+                "= \"{}\" applies to sample.kind = \"random\" only, not \"{kind}\"",
+                packing.as_str()
             ),
         ));
+    }
+    if p.shape == Some(GrainShape::Ellipsoid) && p.packing == Some(Packing::Geometric) {
+        return Err(s.key_error(
+            "sample.packing",
+            "= \"geometric\" packs spheres only; ellipsoid grains reach their solid fraction by \"compaction\"",
+        ));
+    }
+    Ok(())
+}
+
+/// The method a random sample reaches its solid fraction by.
+pub fn packing(p: &SampleSpec) -> Packing {
+    p.packing
+        .unwrap_or(if p.shape == Some(GrainShape::Ellipsoid) {
+            Packing::Compaction
+        } else {
+            Packing::Geometric
+        })
+}
+
+/// The solid fractions each packing method may be asked for: growth without overlap stops
+/// near random close packing (0.65 is above what it reaches in any box); frictionless
+/// compaction reports where the grains jam, so only fractions a packing cannot hold at all
+/// (0.9) are refused here.
+fn check_solid_fraction(s: &Scene, p: &SampleSpec, phi: f64) -> Result<()> {
+    let top = match packing(p) {
+        Packing::Geometric => 0.65,
+        Packing::Compaction => 0.9,
+    };
+    check(
+        s,
+        "sample.solid_fraction",
+        phi,
+        Range::open_closed(0.0, top),
+        &format!("for sample.packing = \"{}\"", packing(p).as_str()),
+    )
+}
+
+/// A random sample of ellipsoid grains: sizes come from `grain_file`, so the radius keys do
+/// not apply.
+fn validate_ellipsoid_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
+    let why = "for sample.shape = \"ellipsoid\"";
+    for (key, v) in [
+        ("sample.radius_mean", p.radius_mean),
+        ("sample.radius_sd", p.radius_sd),
+        ("sample.radius_min", p.radius_min),
+        ("sample.radius_max", p.radius_max),
+        ("sample.aspect_ratio_max", p.aspect_ratio_max),
+    ] {
+        if v.is_some() {
+            return Err(s.key_error(
+                key,
+                "does not apply with sample.shape = \"ellipsoid\": the grains' semi-axes are drawn from sample.grain_file",
+            ));
+        }
+    }
+    require(s, "sample.grain_file", p.grain_file.as_ref(), why)?;
+    let bx = require(s, "sample.box", p.box_size, why)?;
+    for (axis, v) in ["x", "y", "z"].iter().zip(bx) {
+        if !Range::POSITIVE.contains(v) {
+            return Err(s.key_error(
+                "sample.box",
+                format!("has {axis} edge {v}, outside the allowed range (0, ∞) m"),
+            ));
+        }
+    }
+    match (p.count, p.solid_fraction) {
+        (Some(0), _) => {
+            return Err(s.key_error("sample.count", "= 0 is outside the allowed range [1, ∞)"));
+        }
+        (Some(n), _) => check_bodies(s, "sample.count", n as f64, "grains")?,
+        (None, None) => {
+            return Err(s.key_error(
+                "sample.count",
+                format!("or sample.solid_fraction is required {why}"),
+            ));
+        }
+        _ => {}
+    }
+    if let Some(phi) = p.solid_fraction {
+        check_solid_fraction(s, p, phi)?;
+    }
+    if let Some(pr) = p.pressure {
+        check(s, "sample.pressure", pr, Range::POSITIVE, "Pa")?;
+    }
+    if let Some(mu) = p.compaction_friction {
+        check(s, "sample.compaction_friction", mu, Range::NON_NEGATIVE, "")?;
     }
     Ok(())
 }
