@@ -815,13 +815,19 @@ pub extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     with_instance(c, "fmi2DoStep", |i| {
         i.expect(&[Phase::Running], "fmi2DoStep")?;
-        if !(h > 0.0 && h.is_finite()) {
-            return Err(format!("the communication step {h} must be positive"));
+        // Written so that NaN fails them: a NaN step or time once passed both checks.
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!(
+                "communicationStepSize = {h:e} s is outside the allowed range (0, inf) s"
+            ));
         }
         let now = i.model.time();
-        if (current - now).abs() > 1e-9 * h.max(now.abs()) {
+        // The master's clock may carry the round-off of summing its steps.
+        let tolerance = 1e-9 * h.max(now.abs());
+        if !(current.is_finite() && (current - now).abs() <= tolerance) {
             return Err(format!(
-                "the step starts at t = {current:e} s but the FMU is at t = {now:e} s"
+                "currentCommunicationPoint = {current:e} s is outside the allowed range: the \
+                 FMU's time {now:e} s, where its last step ended (within {tolerance:.1e} s)"
             ));
         }
         match i.model.do_step(current, h) {

@@ -8,7 +8,8 @@ import sys
 import numpy as np
 import pytest
 from fmpy import extract, read_model_description, simulate_fmu
-from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave, fmi2LastSuccessfulTime
 from fmpy.validation import validate_fmu
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -19,6 +20,7 @@ STRESS_INCIDENT, STRESS_TRANSMITTED = 2, 3
 FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY = 4, 6, 8, 9
 SPECIMEN_DIAMETER, BAR_DIAMETER = 10, 11
 BROKEN_PARTICLES = 12
+FMI2_ERROR = 3
 OUTPUTS = [STRESS_INCIDENT, STRESS_TRANSMITTED, FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY]
 STRAIN_OUT = OUTPUTS.index(STRAIN)
 
@@ -243,6 +245,41 @@ def test_out_of_order_calls_give_errors_not_crashes():
     )
     assert p.returncode == 0, p.stderr
     assert "refused 9" in p.stdout, p.stdout + p.stderr
+
+
+
+def test_non_finite_off_clock_or_backward_steps_are_refused_and_change_nothing(unzipped, capfd):
+    # doStep(NaN, h) used to return fmi2OK without stepping: every output then read NaN, and
+    # the NaN clock passed every later time check, so doStep(-1, h) was taken from -1 s.
+    fmu = slave(unzipped, "edges")
+    t = run(fmu, 0.0, 1e-6, 2)
+    before = fmu.getReal(OUTPUTS) + fmu.getInteger([BROKEN_PARTICLES])
+    capfd.readouterr()
+    nan, inf = float("nan"), float("inf")
+    for current, h, argument in [
+        (nan, 1e-6, "currentCommunicationPoint"),
+        (inf, 1e-6, "currentCommunicationPoint"),
+        (-1.0, 1e-6, "currentCommunicationPoint"),
+        (t - 1e-6, 1e-6, "currentCommunicationPoint"),  # backwards
+        (t + 1e-6, 1e-6, "currentCommunicationPoint"),  # ahead of the FMU
+        (t, nan, "communicationStepSize"),
+        (t, inf, "communicationStepSize"),
+        (t, 0.0, "communicationStepSize"),
+        (t, -1e-6, "communicationStepSize"),
+    ]:
+        with pytest.raises(FMICallException) as e:
+            fmu.doStep(currentCommunicationPoint=current, communicationStepSize=h)
+        assert e.value.status == FMI2_ERROR, (current, h)
+        log = capfd.readouterr().out
+        assert f"{argument} = " in log and "allowed" in log, (current, h, log)
+        assert fmu.getRealStatus(fmi2LastSuccessfulTime) == t, (current, h)
+        assert fmu.getReal(OUTPUTS) + fmu.getInteger([BROKEN_PARTICLES]) == before, (current, h)
+    # Refused, not failed: the next step from t goes on.
+    run(fmu, t, 1e-6, 1)
+    after = fmu.getReal(OUTPUTS)
+    assert np.all(np.isfinite(after)) and after[STRAIN_OUT] > before[STRAIN_OUT]
+    fmu.terminate()
+    fmu.freeInstance()
 
 
 def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzipped):
