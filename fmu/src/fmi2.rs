@@ -74,8 +74,12 @@ pub trait Model: Default {
     fn string(&self, vr: u32) -> Result<String, Failure>;
     /// Sets a String variable; `value` is None where the host passed a null pointer.
     fn set_string(&mut self, vr: u32, value: Option<String>, phase: Phase) -> Result<(), Failure>;
-    /// Advances from `current` (the model's time, checked) to `current + h` (h > 0, checked)
-    /// and sets the model's time to `current + h`.
+    /// The most work one fmi2DoStep may take, in words ("1e9 solver steps"), for
+    /// fmi2CancelStep's message: [`Model::do_step`] refuses a longer step up front, so that
+    /// no synchronous step runs for days.
+    fn step_bound() -> String;
+    /// Advances from `current` (the model's time, checked) to `current + h` (h > 0 finite,
+    /// checked) and sets the model's time to `current + h`.
     fn do_step(&mut self, current: f64, h: f64) -> Result<(), StepError>;
     fn save(&self) -> Self::Saved;
     /// Returns to a saved state; on an error the model is unchanged.
@@ -847,9 +851,18 @@ fn unsupported(c: fmi2Component, call: &str) -> fmi2Status {
     })
 }
 
+/// Nothing to cancel: fmi2DoStep runs to its end before it returns (canRunAsynchronuously is
+/// false) and never returns fmi2Pending, and the model bounds each step
+/// ([`Model::step_bound`]).
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    unsupported(c, "fmi2CancelStep (steps are synchronous)")
+    with_instance(c, "fmi2CancelStep", |_| {
+        Err(format!(
+            "no step to cancel: fmi2DoStep is synchronous (it never returns fmi2Pending) and \
+             refuses up front a step that needs more than {}",
+            FmuModel::step_bound()
+        ))
+    })
 }
 
 #[unsafe(no_mangle)]

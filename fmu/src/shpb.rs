@@ -17,6 +17,7 @@ use std::path::Path;
 
 use fractum::Run;
 use fractum::models::granular::{Faces, Simulation};
+use fractum::run::MAX_STEPS;
 use serde::{Deserialize, Serialize};
 
 use crate::fmi2::{Failure, Model, Phase, StepError};
@@ -369,6 +370,10 @@ impl Model for Shpb {
         Ok(())
     }
 
+    fn step_bound() -> String {
+        format!("{MAX_STEPS:.0e} solver steps")
+    }
+
     fn do_step(&mut self, current: f64, h: f64) -> Result<(), StepError> {
         let sim = self.sim.as_mut().ok_or_else(|| {
             StepError::Refused("no specimen: initialisation did not finish".into())
@@ -377,8 +382,30 @@ impl Model for Shpb {
         // the specimen is at or past the communication point (within rounding); the step may
         // shorten itself on the way (fracture), so one at a time.
         let target = (current + h) - self.vars.start;
+        // Refused before the first step, under the CLI's bound on a run: doStep(0, 1e300)
+        // planned 2.8e307 steps and never returned. The count is at the present step; one
+        // that shortens on the way (fracture) stops the step, failed, at the bound.
+        let needed = (target - sim.clock.time) / sim.clock.dt;
+        if needed.is_nan() || needed > MAX_STEPS {
+            return Err(StepError::Refused(format!(
+                "communicationStepSize = {h:e} s needs {needed:.2e} solver steps of {:.3e} s, \
+                 more than the limit of {}: the allowed range is (0, {:.3e}] s",
+                sim.clock.dt,
+                Self::step_bound(),
+                MAX_STEPS * sim.clock.dt
+            )));
+        }
+        let first = sim.clock.step;
         let failed = |e: fractum::Error| StepError::Failed(e.to_string());
         while sim.clock.time < target - 1e-9 * sim.clock.dt {
+            if (sim.clock.step - first) as f64 >= MAX_STEPS {
+                return Err(StepError::Failed(format!(
+                    "the solver step shortened on the way: the step stopped at t = {:e} s \
+                     after the limit of {}",
+                    sim.clock.time,
+                    Self::step_bound()
+                )));
+            }
             // Only the step that reaches the point needs the outputs before it. (The step
             // never grows, so a step predicted not to reach the point does not.)
             if sim.clock.time + sim.clock.dt >= target - 1e-9 * sim.clock.dt {

@@ -282,6 +282,65 @@ def test_non_finite_off_clock_or_backward_steps_are_refused_and_change_nothing(u
     fmu.freeInstance()
 
 
+HUGE_STEP = r"""
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+path = sys.argv[1]
+md = read_model_description(path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="huge")
+fmu.instantiate()
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.exitInitializationMode()
+fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-6)
+before = fmu.getReal(list(range(10)))
+for h in [1e300, 1e3]:
+    try:
+        fmu.doStep(currentCommunicationPoint=1e-6, communicationStepSize=h)
+        print("accepted", h, flush=True)
+    except FMICallException as e:
+        print("refused", h, e.status, flush=True)
+    assert fmu.getReal(list(range(10))) == before
+    assert fmu.getRealStatus(2) == 1e-6
+try:
+    fmu.cancelStep()
+    print("cancel accepted", flush=True)
+except FMICallException as e:
+    print("cancel refused", e.status, flush=True)
+fmu.doStep(currentCommunicationPoint=1e-6, communicationStepSize=1e-6)
+fmu.terminate()
+fmu.freeInstance()
+print("done")
+"""
+
+
+def test_a_step_needing_more_than_1e9_solver_steps_is_refused_up_front():
+    # doStep(0, 1e300) planned 2.8e307 solver steps and never returned: a subprocess with a
+    # timeout, so that a regression fails instead of hanging the suite.
+    p = subprocess.run(
+        [sys.executable, "-c", HUGE_STEP, FMU], capture_output=True, text=True, timeout=300
+    )
+    assert p.returncode == 0, p.stdout + p.stderr
+    lines = p.stdout.splitlines()
+    # 1e3 s: about 4e10 steps of the shipped scene's 26 ns.
+    assert "refused 1e+300 3" in lines and "refused 1000.0 3" in lines, p.stdout
+    errors = [l for l in lines if l.startswith("[ERROR] fmi2DoStep")]
+    assert len(errors) == 2, p.stdout
+    for line in errors:
+        assert "solver steps" in line and "limit of 1e9" in line, line
+    assert re.search(r"needs [0-9.]+e\+?307 solver steps", errors[0]), errors[0]
+    # Steps are synchronous and bounded: fmi2CancelStep has nothing to cancel, and says so.
+    assert "cancel refused 3" in lines, p.stdout
+    cancel = [l for l in lines if l.startswith("[ERROR] fmi2CancelStep")]
+    assert len(cancel) == 1 and "synchronous" in cancel[0] and "1e9" in cancel[0], p.stdout
+    assert "done" in lines, p.stdout
+    cs = read_model_description(FMU).coSimulation
+    assert not cs.canRunAsynchronuously
+
+
 def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzipped):
     import ctypes
 
