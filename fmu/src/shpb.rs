@@ -87,6 +87,17 @@ impl Default for Variables {
     }
 }
 
+impl Variables {
+    /// The parameters, as a host sets them: what a saved state's specimen was built from.
+    fn configuration(&self) -> String {
+        format!(
+            "scene = \"{}\", seed = {}, fracture = {}, specimen_diameter = {:e} m, \
+             bar_diameter = {:e} m",
+            self.scene, self.seed, self.fracture, self.specimen_diameter, self.bar_diameter
+        )
+    }
+}
+
 /// The outputs at one instant: face stresses (Pa, compression positive), axial strain,
 /// kinetic energy (J) and broken grains.
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
@@ -440,6 +451,18 @@ impl Model for Shpb {
     }
 
     fn restore(&mut self, saved: &Saved, resources: &Path) -> Result<(), Failure> {
+        // A built specimen takes back only its own configuration's states: another seed's
+        // bytes restored under this scene (or fracture's) and took its parameters. An
+        // instance not built yet takes the state's configuration with it.
+        if saved.sim.is_some() && self.sim.is_some() {
+            let (theirs, ours) = (saved.vars.configuration(), self.vars.configuration());
+            if theirs != ours {
+                return Err(format!(
+                    "the FMU state is of an instance configured with {theirs}; this one has \
+                     {ours}"
+                ));
+            }
+        }
         self.sim = match (&saved.sim, &self.sim) {
             (None, _) => None,
             (Some(bytes), Some(current)) => Some(

@@ -20,6 +20,7 @@ STRESS_INCIDENT, STRESS_TRANSMITTED = 2, 3
 FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY = 4, 6, 8, 9
 SPECIMEN_DIAMETER, BAR_DIAMETER = 10, 11
 BROKEN_PARTICLES = 12
+SEED, FRACTURE = 13, 15
 FMI2_ERROR = 3
 OUTPUTS = [STRESS_INCIDENT, STRESS_TRANSMITTED, FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY]
 STRAIN_OUT = OUTPUTS.index(STRAIN)
@@ -404,6 +405,53 @@ def test_two_threads_stepping_one_instance_are_serialised_not_racing():
     assert "finite True" in lines and "done" in lines, p.stdout
     assert "[FATAL]" not in p.stdout, p.stdout
 
+
+def configured(unzipped, name, seed=1, fracture=True):
+    md = read_model_description(FMU)
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.setInteger([SEED], [seed])
+    fmu.setBoolean([FRACTURE], [fracture])
+    fmu.exitInitializationMode()
+    return fmu
+
+
+def test_a_state_of_an_instance_configured_otherwise_is_refused(unzipped, capfd):
+    # A saved state of another seed, or of the scene without fracture, was taken over by the
+    # instance: its specimen was rebuilt from the other state's bytes under its own scene.
+    home = configured(unzipped, "home")
+    twin = configured(unzipped, "twin")
+    others = {"seed = 2": configured(unzipped, "seed2", seed=2),
+              "fracture = false": configured(unzipped, "unbreakable", fracture=False)}
+    t = 0.0
+    for fmu in [home, twin, *others.values()]:
+        t = run(fmu, 0.0, 1e-6, 2)
+    before = home.getReal(OUTPUTS) + home.getInteger([BROKEN_PARTICLES])
+    capfd.readouterr()
+    for words, other in others.items():
+        state = other.getFMUState()
+        restored = home.deserializeFMUState(other.serializeFMUState(state))
+        for foreign in (state, restored):
+            with pytest.raises(FMICallException) as e:
+                home.setFMUState(foreign)
+            assert e.value.status == FMI2_ERROR
+            log = capfd.readouterr().out
+            assert "fmi2SetFMUstate" in log and words in log, log
+            assert home.getReal(OUTPUTS) + home.getInteger([BROKEN_PARTICLES]) == before
+        other.freeFMUState(state)
+        home.freeFMUState(restored)
+    # A twin's state (the same configuration) is accepted, and the instance goes on.
+    state = twin.getFMUState()
+    home.setFMUState(state)
+    assert home.getReal(OUTPUTS) == twin.getReal(OUTPUTS)
+    run(home, t, 1e-6, 1)
+    twin.freeFMUState(state)
+    for fmu in [home, twin, *others.values()]:
+        fmu.terminate()
+        fmu.freeInstance()
 
 def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzipped):
     import ctypes
