@@ -10,11 +10,11 @@
 // registries) before it is read or written.
 #![allow(clippy::not_unsafe_ptr_arg_deref)]
 
-use std::collections::HashSet;
+use std::collections::HashMap;
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, OnceLock};
+use std::sync::{Arc, Mutex, OnceLock, PoisonError};
 
 use fmi_sys::fmi2::*;
 use fractum::output::sealed;
@@ -74,8 +74,12 @@ pub trait Model: Default {
     fn string(&self, vr: u32) -> Result<String, Failure>;
     /// Sets a String variable; `value` is None where the host passed a null pointer.
     fn set_string(&mut self, vr: u32, value: Option<String>, phase: Phase) -> Result<(), Failure>;
-    /// Advances from `current` (the model's time, checked) to `current + h` (h > 0, checked)
-    /// and sets the model's time to `current + h`.
+    /// The most work one fmi2DoStep may take, in words ("1e9 solver steps"), for
+    /// fmi2CancelStep's message: [`Model::do_step`] refuses a longer step up front, so that
+    /// no synchronous step runs for days.
+    fn step_bound() -> String;
+    /// Advances from `current` (the model's time, checked) to `current + h` (h > 0 finite,
+    /// checked) and sets the model's time to `current + h`.
     fn do_step(&mut self, current: f64, h: f64) -> Result<(), StepError>;
     fn save(&self) -> Self::Saved;
     /// Returns to a saved state; on an error the model is unchanged.
@@ -125,6 +129,12 @@ struct Instance {
     model: FmuModel,
 }
 
+// SAFETY: what keeps Instance from being Send is the host's `componentEnvironment` pointer
+// and logger, which this library never dereferences: it hands the pointer back to the host's
+// logger. FMI 2.0 leaves the host free to call an instance from any thread, and the
+// instance's lock keeps its calls from overlapping.
+unsafe impl Send for Instance {}
+
 /// A saved FMU state (fmi2GetFMUstate).
 #[derive(Serialize, Deserialize)]
 struct Saved {
@@ -132,14 +142,35 @@ struct Saved {
     model: <FmuModel as Model>::Saved,
 }
 
-fn live() -> &'static Mutex<HashSet<usize>> {
-    static LIVE: OnceLock<Mutex<HashSet<usize>>> = OnceLock::new();
-    LIVE.get_or_init(|| Mutex::new(HashSet::new()))
+/// A live instance. The lock serialises calls on it, as the C API's lock on each handle does
+/// (ffi/src/lib.rs): a host that calls one instance from two threads at once gets one call
+/// after the other, never two threads inside the solver. The registry holds it by an `Arc`,
+/// so that fmi2FreeInstance during another thread's call frees it when that call ends.
+type Slot = Arc<Mutex<Instance>>;
+
+/// The live instances, by the address the host holds as its `fmi2Component` (the address of
+/// the instance's lock: a key, never dereferenced).
+fn live() -> &'static Mutex<HashMap<usize, Slot>> {
+    static LIVE: OnceLock<Mutex<HashMap<usize, Slot>>> = OnceLock::new();
+    LIVE.get_or_init(|| Mutex::new(HashMap::new()))
 }
 
-fn live_states() -> &'static Mutex<HashSet<usize>> {
-    static LIVE: OnceLock<Mutex<HashSet<usize>>> = OnceLock::new();
-    LIVE.get_or_init(|| Mutex::new(HashSet::new()))
+/// The live FMU states, by the address the host holds as its `fmi2FMUstate`, shared as the
+/// instances are: a state freed by one thread while another restores it lives until that ends.
+fn live_states() -> &'static Mutex<HashMap<usize, Arc<Saved>>> {
+    static LIVE: OnceLock<Mutex<HashMap<usize, Arc<Saved>>>> = OnceLock::new();
+    LIVE.get_or_init(|| Mutex::new(HashMap::new()))
+}
+
+/// Registers a state and gives its address, the host's `fmi2FMUstate`.
+fn register_state(saved: Saved) -> Result<fmi2FMUstate, Failure> {
+    let saved = Arc::new(saved);
+    let key = Arc::as_ptr(&saved) as usize;
+    live_states()
+        .lock()
+        .map_err(|_| "state registry poisoned".to_string())?
+        .insert(key, saved);
+    Ok(key as fmi2FMUstate)
 }
 
 impl Instance {
@@ -185,18 +216,17 @@ fn with_instance(
     call: &str,
     f: impl FnOnce(&mut Instance) -> Result<fmi2Status, Failure>,
 ) -> fmi2Status {
-    if c.is_null() {
-        return fmi2Status_fmi2Error;
-    }
-    let known = live()
+    let slot = live()
         .lock()
-        .map(|l| l.contains(&(c as usize)))
-        .unwrap_or(false);
-    if !known {
+        .ok()
+        .and_then(|l| l.get(&(c as usize)).cloned());
+    let Some(slot) = slot else {
         return fmi2Status_fmi2Error;
-    }
-    // SAFETY: `c` is a live instance created by fmi2Instantiate (checked above).
-    let inst = unsafe { &mut *(c as *mut Instance) };
+    };
+    // Waits for a call of another thread on this instance to end. Panics are caught inside
+    // the lock, so none poisons it.
+    let mut guard = slot.lock().unwrap_or_else(PoisonError::into_inner);
+    let inst = &mut *guard;
     match catch_unwind(AssertUnwindSafe(|| f(inst))) {
         Ok(Ok(status)) => status,
         Ok(Err(message)) => {
@@ -357,11 +387,15 @@ pub unsafe extern "C" fn fmi2Instantiate(
                 );
             }
         }
-        let ptr = Box::into_raw(Box::new(inst)) as fmi2Component;
-        if let Ok(mut l) = live().lock() {
-            l.insert(ptr as usize);
+        let slot = Arc::new(Mutex::new(inst));
+        let key = Arc::as_ptr(&slot) as usize;
+        match live().lock() {
+            Ok(mut l) => {
+                l.insert(key, slot);
+                key as fmi2Component
+            }
+            Err(_) => std::ptr::null_mut(),
         }
-        ptr
     }));
     result.unwrap_or(std::ptr::null_mut())
 }
@@ -369,14 +403,9 @@ pub unsafe extern "C" fn fmi2Instantiate(
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2FreeInstance(c: fmi2Component) {
     let _ = catch_unwind(AssertUnwindSafe(|| {
-        let removed = live()
-            .lock()
-            .map(|mut l| l.remove(&(c as usize)))
-            .unwrap_or(false);
-        if removed {
-            // SAFETY: `c` was created by Box::into_raw in fmi2Instantiate and is freed once.
-            drop(unsafe { Box::from_raw(c as *mut Instance) });
-        }
+        // Dropped here, or when a call of another thread on it ends.
+        let removed = live().lock().ok().and_then(|mut l| l.remove(&(c as usize)));
+        drop(removed);
     }));
 }
 
@@ -664,38 +693,29 @@ pub extern "C" fn fmi2GetFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) ->
         // A state the host passes back in is replaced, not leaked.
         // SAFETY: checked non-null.
         let old = unsafe { *state };
-        let fresh = Box::into_raw(Box::new(i.save())) as fmi2FMUstate;
-        let mut l = live_states()
-            .lock()
-            .map_err(|_| "state registry poisoned".to_string())?;
-        if !old.is_null() && l.remove(&(old as usize)) {
-            // SAFETY: `old` is a state created here and still live.
-            drop(unsafe { Box::from_raw(old as *mut Saved) });
+        let fresh = register_state(i.save())?;
+        if let Ok(mut l) = live_states().lock() {
+            l.remove(&(old as usize));
         }
-        l.insert(fresh as usize);
         // SAFETY: checked non-null.
         unsafe { *state = fresh };
         Ok(fmi2Status_fmi2OK)
     })
 }
 
-fn saved_of<'a>(state: fmi2FMUstate) -> Result<&'a Saved, Failure> {
-    let known = live_states()
+fn saved_of(state: fmi2FMUstate) -> Result<Arc<Saved>, Failure> {
+    live_states()
         .lock()
-        .map(|l| l.contains(&(state as usize)))
-        .unwrap_or(false);
-    if state.is_null() || !known {
-        return Err("the FMU state is null, freed or not from this FMU".to_string());
-    }
-    // SAFETY: a live state created by fmi2GetFMUstate or fmi2DeSerializeFMUstate.
-    Ok(unsafe { &*(state as *const Saved) })
+        .ok()
+        .and_then(|l| l.get(&(state as usize)).cloned())
+        .ok_or_else(|| "the FMU state is null, freed or not from this FMU".to_string())
 }
 
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2SetFMUstate(c: fmi2Component, state: fmi2FMUstate) -> fmi2Status {
     with_instance(c, "fmi2SetFMUstate", |i| {
         let saved = saved_of(state)?;
-        i.restore(saved)?;
+        i.restore(&saved)?;
         Ok(fmi2Status_fmi2OK)
     })
 }
@@ -713,13 +733,11 @@ pub extern "C" fn fmi2FreeFMUstate(c: fmi2Component, state: *mut fmi2FMUstate) -
         }
         let removed = live_states()
             .lock()
-            .map(|mut l| l.remove(&(s as usize)))
-            .unwrap_or(false);
-        if !removed {
+            .ok()
+            .and_then(|mut l| l.remove(&(s as usize)));
+        if removed.is_none() {
             return Err("the FMU state is not from this FMU or already freed".to_string());
         }
-        // SAFETY: a live state created here, freed once.
-        drop(unsafe { Box::from_raw(s as *mut Saved) });
         // SAFETY: checked non-null.
         unsafe { *state = std::ptr::null_mut() };
         Ok(fmi2Status_fmi2OK)
@@ -752,7 +770,7 @@ pub extern "C" fn fmi2SerializedFMUstateSize(
             return Err("the size pointer is null".to_string());
         }
         // SAFETY: checked non-null.
-        unsafe { *size = serialize(saved).len() };
+        unsafe { *size = serialize(&saved).len() };
         Ok(fmi2Status_fmi2OK)
     })
 }
@@ -765,7 +783,8 @@ pub extern "C" fn fmi2SerializeFMUstate(
     size: usize,
 ) -> fmi2Status {
     with_instance(c, "fmi2SerializeFMUstate", |_| {
-        let data = serialize(saved_of(state)?);
+        let saved = saved_of(state)?;
+        let data = serialize(&saved);
         if bytes.is_null() || size < data.len() {
             return Err(format!(
                 "the buffer holds {size} bytes, the state needs {}",
@@ -795,11 +814,7 @@ pub extern "C" fn fmi2DeSerializeFMUstate(
             .map_err(|why| format!("the serialized FMU state is not usable: it {why}"))?;
         let saved: Saved = postcard::from_bytes(data)
             .map_err(|e| format!("the serialized FMU state is damaged ({e})"))?;
-        let fresh = Box::into_raw(Box::new(saved)) as fmi2FMUstate;
-        live_states()
-            .lock()
-            .map_err(|_| "state registry poisoned".to_string())?
-            .insert(fresh as usize);
+        let fresh = register_state(saved)?;
         // SAFETY: checked non-null.
         unsafe { *state = fresh };
         Ok(fmi2Status_fmi2OK)
@@ -815,13 +830,19 @@ pub extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     with_instance(c, "fmi2DoStep", |i| {
         i.expect(&[Phase::Running], "fmi2DoStep")?;
-        if !(h > 0.0 && h.is_finite()) {
-            return Err(format!("the communication step {h} must be positive"));
+        // Written so that NaN fails them: a NaN step or time once passed both checks.
+        if !(h.is_finite() && h > 0.0) {
+            return Err(format!(
+                "communicationStepSize = {h:e} s is outside the allowed range (0, inf) s"
+            ));
         }
         let now = i.model.time();
-        if (current - now).abs() > 1e-9 * h.max(now.abs()) {
+        // The master's clock may carry the round-off of summing its steps.
+        let tolerance = 1e-9 * h.max(now.abs());
+        if !(current.is_finite() && (current - now).abs() <= tolerance) {
             return Err(format!(
-                "the step starts at t = {current:e} s but the FMU is at t = {now:e} s"
+                "currentCommunicationPoint = {current:e} s is outside the allowed range: the \
+                 FMU's time {now:e} s, where its last step ended (within {tolerance:.1e} s)"
             ));
         }
         match i.model.do_step(current, h) {
@@ -841,9 +862,18 @@ fn unsupported(c: fmi2Component, call: &str) -> fmi2Status {
     })
 }
 
+/// Nothing to cancel: fmi2DoStep runs to its end before it returns (canRunAsynchronuously is
+/// false) and never returns fmi2Pending, and the model bounds each step
+/// ([`Model::step_bound`]).
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2CancelStep(c: fmi2Component) -> fmi2Status {
-    unsupported(c, "fmi2CancelStep (steps are synchronous)")
+    with_instance(c, "fmi2CancelStep", |_| {
+        Err(format!(
+            "no step to cancel: fmi2DoStep is synchronous (it never returns fmi2Pending) and \
+             refuses up front a step that needs more than {}",
+            FmuModel::step_bound()
+        ))
+    })
 }
 
 #[unsafe(no_mangle)]

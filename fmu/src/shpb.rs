@@ -17,6 +17,7 @@ use std::path::Path;
 
 use fractum::Run;
 use fractum::models::granular::{Faces, Simulation};
+use fractum::run::MAX_STEPS;
 use serde::{Deserialize, Serialize};
 
 use crate::fmi2::{Failure, Model, Phase, StepError};
@@ -83,6 +84,17 @@ impl Default for Variables {
             time: 0.0,
             start: 0.0,
         }
+    }
+}
+
+impl Variables {
+    /// The parameters, as a host sets them: what a saved state's specimen was built from.
+    fn configuration(&self) -> String {
+        format!(
+            "scene = \"{}\", seed = {}, fracture = {}, specimen_diameter = {:e} m, \
+             bar_diameter = {:e} m",
+            self.scene, self.seed, self.fracture, self.specimen_diameter, self.bar_diameter
+        )
     }
 }
 
@@ -369,6 +381,10 @@ impl Model for Shpb {
         Ok(())
     }
 
+    fn step_bound() -> String {
+        format!("{MAX_STEPS:.0e} solver steps")
+    }
+
     fn do_step(&mut self, current: f64, h: f64) -> Result<(), StepError> {
         let sim = self.sim.as_mut().ok_or_else(|| {
             StepError::Refused("no specimen: initialisation did not finish".into())
@@ -377,8 +393,30 @@ impl Model for Shpb {
         // the specimen is at or past the communication point (within rounding); the step may
         // shorten itself on the way (fracture), so one at a time.
         let target = (current + h) - self.vars.start;
+        // Refused before the first step, under the CLI's bound on a run: doStep(0, 1e300)
+        // planned 2.8e307 steps and never returned. The count is at the present step; one
+        // that shortens on the way (fracture) stops the step, failed, at the bound.
+        let needed = (target - sim.clock.time) / sim.clock.dt;
+        if needed.is_nan() || needed > MAX_STEPS {
+            return Err(StepError::Refused(format!(
+                "communicationStepSize = {h:e} s needs {needed:.2e} solver steps of {:.3e} s, \
+                 more than the limit of {}: the allowed range is (0, {:.3e}] s",
+                sim.clock.dt,
+                Self::step_bound(),
+                MAX_STEPS * sim.clock.dt
+            )));
+        }
+        let first = sim.clock.step;
         let failed = |e: fractum::Error| StepError::Failed(e.to_string());
         while sim.clock.time < target - 1e-9 * sim.clock.dt {
+            if (sim.clock.step - first) as f64 >= MAX_STEPS {
+                return Err(StepError::Failed(format!(
+                    "the solver step shortened on the way: the step stopped at t = {:e} s \
+                     after the limit of {}",
+                    sim.clock.time,
+                    Self::step_bound()
+                )));
+            }
             // Only the step that reaches the point needs the outputs before it. (The step
             // never grows, so a step predicted not to reach the point does not.)
             if sim.clock.time + sim.clock.dt >= target - 1e-9 * sim.clock.dt {
@@ -413,6 +451,18 @@ impl Model for Shpb {
     }
 
     fn restore(&mut self, saved: &Saved, resources: &Path) -> Result<(), Failure> {
+        // A built specimen takes back only its own configuration's states: another seed's
+        // bytes restored under this scene (or fracture's) and took its parameters. An
+        // instance not built yet takes the state's configuration with it.
+        if saved.sim.is_some() && self.sim.is_some() {
+            let (theirs, ours) = (saved.vars.configuration(), self.vars.configuration());
+            if theirs != ours {
+                return Err(format!(
+                    "the FMU state is of an instance configured with {theirs}; this one has \
+                     {ours}"
+                ));
+            }
+        }
         self.sim = match (&saved.sim, &self.sim) {
             (None, _) => None,
             (Some(bytes), Some(current)) => Some(

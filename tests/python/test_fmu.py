@@ -8,7 +8,8 @@ import sys
 import numpy as np
 import pytest
 from fmpy import extract, read_model_description, simulate_fmu
-from fmpy.fmi2 import FMU2Slave
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave, fmi2LastSuccessfulTime
 from fmpy.validation import validate_fmu
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -19,6 +20,8 @@ STRESS_INCIDENT, STRESS_TRANSMITTED = 2, 3
 FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY = 4, 6, 8, 9
 SPECIMEN_DIAMETER, BAR_DIAMETER = 10, 11
 BROKEN_PARTICLES = 12
+SEED, FRACTURE = 13, 15
+FMI2_ERROR = 3
 OUTPUTS = [STRESS_INCIDENT, STRESS_TRANSMITTED, FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY]
 STRAIN_OUT = OUTPUTS.index(STRAIN)
 
@@ -244,6 +247,211 @@ def test_out_of_order_calls_give_errors_not_crashes():
     assert p.returncode == 0, p.stderr
     assert "refused 9" in p.stdout, p.stdout + p.stderr
 
+
+
+def test_non_finite_off_clock_or_backward_steps_are_refused_and_change_nothing(unzipped, capfd):
+    # doStep(NaN, h) used to return fmi2OK without stepping: every output then read NaN, and
+    # the NaN clock passed every later time check, so doStep(-1, h) was taken from -1 s.
+    fmu = slave(unzipped, "edges")
+    t = run(fmu, 0.0, 1e-6, 2)
+    before = fmu.getReal(OUTPUTS) + fmu.getInteger([BROKEN_PARTICLES])
+    capfd.readouterr()
+    nan, inf = float("nan"), float("inf")
+    for current, h, argument in [
+        (nan, 1e-6, "currentCommunicationPoint"),
+        (inf, 1e-6, "currentCommunicationPoint"),
+        (-1.0, 1e-6, "currentCommunicationPoint"),
+        (t - 1e-6, 1e-6, "currentCommunicationPoint"),  # backwards
+        (t + 1e-6, 1e-6, "currentCommunicationPoint"),  # ahead of the FMU
+        (t, nan, "communicationStepSize"),
+        (t, inf, "communicationStepSize"),
+        (t, 0.0, "communicationStepSize"),
+        (t, -1e-6, "communicationStepSize"),
+    ]:
+        with pytest.raises(FMICallException) as e:
+            fmu.doStep(currentCommunicationPoint=current, communicationStepSize=h)
+        assert e.value.status == FMI2_ERROR, (current, h)
+        log = capfd.readouterr().out
+        assert f"{argument} = " in log and "allowed" in log, (current, h, log)
+        assert fmu.getRealStatus(fmi2LastSuccessfulTime) == t, (current, h)
+        assert fmu.getReal(OUTPUTS) + fmu.getInteger([BROKEN_PARTICLES]) == before, (current, h)
+    # Refused, not failed: the next step from t goes on.
+    run(fmu, t, 1e-6, 1)
+    after = fmu.getReal(OUTPUTS)
+    assert np.all(np.isfinite(after)) and after[STRAIN_OUT] > before[STRAIN_OUT]
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+HUGE_STEP = r"""
+import sys
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+path = sys.argv[1]
+md = read_model_description(path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="huge")
+fmu.instantiate()
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.exitInitializationMode()
+fmu.doStep(currentCommunicationPoint=0.0, communicationStepSize=1e-6)
+before = fmu.getReal(list(range(10)))
+for h in [1e300, 1e3]:
+    try:
+        fmu.doStep(currentCommunicationPoint=1e-6, communicationStepSize=h)
+        print("accepted", h, flush=True)
+    except FMICallException as e:
+        print("refused", h, e.status, flush=True)
+    assert fmu.getReal(list(range(10))) == before
+    assert fmu.getRealStatus(2) == 1e-6
+try:
+    fmu.cancelStep()
+    print("cancel accepted", flush=True)
+except FMICallException as e:
+    print("cancel refused", e.status, flush=True)
+fmu.doStep(currentCommunicationPoint=1e-6, communicationStepSize=1e-6)
+fmu.terminate()
+fmu.freeInstance()
+print("done")
+"""
+
+
+def test_a_step_needing_more_than_1e9_solver_steps_is_refused_up_front():
+    # doStep(0, 1e300) planned 2.8e307 solver steps and never returned: a subprocess with a
+    # timeout, so that a regression fails instead of hanging the suite.
+    p = subprocess.run(
+        [sys.executable, "-c", HUGE_STEP, FMU], capture_output=True, text=True, timeout=300
+    )
+    assert p.returncode == 0, p.stdout + p.stderr
+    lines = p.stdout.splitlines()
+    # 1e3 s: about 4e10 steps of the shipped scene's 26 ns.
+    assert "refused 1e+300 3" in lines and "refused 1000.0 3" in lines, p.stdout
+    errors = [l for l in lines if l.startswith("[ERROR] fmi2DoStep")]
+    assert len(errors) == 2, p.stdout
+    for line in errors:
+        assert "solver steps" in line and "limit of 1e9" in line, line
+    assert re.search(r"needs [0-9.]+e\+?307 solver steps", errors[0]), errors[0]
+    # Steps are synchronous and bounded: fmi2CancelStep has nothing to cancel, and says so.
+    assert "cancel refused 3" in lines, p.stdout
+    cancel = [l for l in lines if l.startswith("[ERROR] fmi2CancelStep")]
+    assert len(cancel) == 1 and "synchronous" in cancel[0] and "1e9" in cancel[0], p.stdout
+    assert "done" in lines, p.stdout
+    cs = read_model_description(FMU).coSimulation
+    assert not cs.canRunAsynchronuously
+
+
+TWO_THREADS = r"""
+import sys, threading
+import numpy as np
+from fmpy import extract, read_model_description
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
+path = sys.argv[1]
+md = read_model_description(path)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=extract(path),
+                modelIdentifier=md.coSimulation.modelIdentifier, instanceName="threads")
+fmu.instantiate()
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.exitInitializationMode()
+h = 2.0 ** -24  # about 60 ns: a few solver steps per call
+statuses = []
+start = threading.Barrier(2)
+def master():
+    start.wait()
+    for _ in range(40):
+        try:
+            t = fmu.getRealStatus(2)
+            fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+            fmu.getReal(list(range(10)))
+            statuses.append(0)
+        except FMICallException as e:
+            statuses.append(e.status)
+threads = [threading.Thread(target=master) for _ in range(2)]
+for th in threads:
+    th.start()
+for th in threads:
+    th.join()
+print("statuses", sorted(set(statuses)))
+print("steps", statuses.count(0))
+print("time/h", fmu.getRealStatus(2) / h)
+t = fmu.getRealStatus(2)
+fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+print("finite", bool(np.all(np.isfinite(fmu.getReal(list(range(10)))))))
+fmu.terminate()
+fmu.freeInstance()
+print("done")
+"""
+
+
+def test_two_threads_stepping_one_instance_are_serialised_not_racing():
+    # One instance called from two threads at once used to panic inside the solver (both
+    # threads had mutable access to it). Calls on one instance now wait for each other, as the
+    # C API's calls on one handle do: each doStep either steps from the time it read or is
+    # refused because the other thread moved the clock first; no step is lost or doubled.
+    p = subprocess.run(
+        [sys.executable, "-c", TWO_THREADS, FMU], capture_output=True, text=True, timeout=300
+    )
+    assert p.returncode == 0, p.stdout + p.stderr
+    lines = p.stdout.splitlines()
+    statuses = next(l for l in lines if l.startswith("statuses "))
+    assert statuses in ("statuses [0]", "statuses [0, 3]"), p.stdout
+    steps = int(next(l for l in lines if l.startswith("steps ")).split()[1])
+    assert steps >= 40, p.stdout
+    # Binary fractions sum exactly: the clock moved once per accepted step.
+    assert f"time/h {float(steps)}" in lines, p.stdout
+    assert "finite True" in lines and "done" in lines, p.stdout
+    assert "[FATAL]" not in p.stdout, p.stdout
+
+
+def configured(unzipped, name, seed=1, fracture=True):
+    md = read_model_description(FMU)
+    fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
+                    modelIdentifier=md.coSimulation.modelIdentifier, instanceName=name)
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.setInteger([SEED], [seed])
+    fmu.setBoolean([FRACTURE], [fracture])
+    fmu.exitInitializationMode()
+    return fmu
+
+
+def test_a_state_of_an_instance_configured_otherwise_is_refused(unzipped, capfd):
+    # A saved state of another seed, or of the scene without fracture, was taken over by the
+    # instance: its specimen was rebuilt from the other state's bytes under its own scene.
+    home = configured(unzipped, "home")
+    twin = configured(unzipped, "twin")
+    others = {"seed = 2": configured(unzipped, "seed2", seed=2),
+              "fracture = false": configured(unzipped, "unbreakable", fracture=False)}
+    t = 0.0
+    for fmu in [home, twin, *others.values()]:
+        t = run(fmu, 0.0, 1e-6, 2)
+    before = home.getReal(OUTPUTS) + home.getInteger([BROKEN_PARTICLES])
+    capfd.readouterr()
+    for words, other in others.items():
+        state = other.getFMUState()
+        restored = home.deserializeFMUState(other.serializeFMUState(state))
+        for foreign in (state, restored):
+            with pytest.raises(FMICallException) as e:
+                home.setFMUState(foreign)
+            assert e.value.status == FMI2_ERROR
+            log = capfd.readouterr().out
+            assert "fmi2SetFMUstate" in log and words in log, log
+            assert home.getReal(OUTPUTS) + home.getInteger([BROKEN_PARTICLES]) == before
+        other.freeFMUState(state)
+        home.freeFMUState(restored)
+    # A twin's state (the same configuration) is accepted, and the instance goes on.
+    state = twin.getFMUState()
+    home.setFMUState(state)
+    assert home.getReal(OUTPUTS) == twin.getReal(OUTPUTS)
+    run(home, t, 1e-6, 1)
+    twin.freeFMUState(state)
+    for fmu in [home, twin, *others.values()]:
+        fmu.terminate()
+        fmu.freeInstance()
 
 def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzipped):
     import ctypes
