@@ -288,30 +288,38 @@ pub struct FractionSpec {
 pub struct FractionJammed {
     /// The solid fraction asked for.
     pub target: f64,
-    /// The solid fraction at which the settled packing carried the jamming pressure.
+    /// The solid fraction at which the settled packing carried the jamming pressure (the
+    /// target itself when the faces got there).
     pub reached: f64,
+    /// The mean face stress (Pa) the settled grains carried there.
+    pub stress: f64,
 }
 
 /// Largest wall speed while filling, as a strain of the box per step.
-const FILL_STRAIN_PER_STEP: f64 = 1e-5;
-/// The packing counts as jammed when, settled, it carries this fraction of E/(1 - ν²) (a
-/// relative Hertz overlap of about 5e-4): frictionless grains below jamming carry nothing
-/// once they stop moving.
+const FILL_STRAIN_PER_STEP: f64 = 2e-5;
+/// While filling, the faces wait whenever the grains carry more than this fraction of
+/// E/(1 - ν²) (a relative Hertz overlap of about 2e-3): pushed harder, frictionless grains
+/// rearrange sooner.
+const FILL_PRESSURE_PER_MODULUS: f64 = 1e-4;
+/// At the target size the grains count as jammed when, settled, they still carry this fraction
+/// of E/(1 - ν²) (a relative overlap of about 5e-4): frictionless grains below jamming carry
+/// nothing once they stop moving.
 const JAM_PRESSURE_PER_MODULUS: f64 = 1e-5;
 /// Background viscous damping while compacting: velocities decay by e in this many steps
-/// (free-flying grains feel no contact damping).
-const DRAG_STEPS: f64 = 500.0;
+/// (free-flying grains feel no contact damping; much stronger drag slows the rearrangements).
+const DRAG_STEPS: f64 = 5000.0;
 /// Settled: the mean grain speed is below this fraction of the largest wall speed.
 const SETTLED_SPEED: f64 = 1e-3;
 const FRACTION_MAX_STEPS: u64 = 2_000_000;
 
 /// Frictionless dynamic compaction to a solid fraction: the three upper faces of the box move
 /// in, each at most `FILL_STRAIN_PER_STEP` of its edge a step, until the box has `spec.size`;
-/// whenever the mean face stress exceeds the jamming pressure the faces wait for the grains to
+/// whenever the mean face stress exceeds the filling pressure the faces wait for the grains to
 /// rearrange. Contacts are Hertz with viscous damping (restitution 0.3) and no friction;
 /// local damping and a background drag take out the kinetic energy. At the target size the
-/// faces hold until the grains are at rest. If the grains, settled, still carry the jamming
-/// pressure (before or at the target size), they are jammed: the error says at what fraction.
+/// faces hold until the grains are at rest. If the grains, settled, still carry the filling
+/// pressure before the target size, or the jamming pressure at it, they are jammed: the error
+/// says at what fraction.
 /// The bodies end at rest and the faces fixed, with no contact history kept.
 pub fn compact_to_fraction(
     bodies: &mut Bodies,
@@ -338,7 +346,11 @@ pub fn compact_to_fraction(
     let solid = bodies.solid_volume();
     let target = spec.size;
     let target_fraction = solid / (target.x * target.y * target.z);
-    let jam_pressure = JAM_PRESSURE_PER_MODULUS * spec.young / (1.0 - spec.poisson.powi(2));
+    let modulus = spec.young / (1.0 - spec.poisson.powi(2));
+    let (fill_pressure, jam_pressure) = (
+        FILL_PRESSURE_PER_MODULUS * modulus,
+        JAM_PRESSURE_PER_MODULUS * modulus,
+    );
     let mut c = Compactor {
         contact: build_contact(params),
         vv: VelocityVerlet {
@@ -379,7 +391,7 @@ pub fn compact_to_fraction(
             .map(|(lo, hi)| 0.5 * (walls.face_stress(*lo) + walls.face_stress(*hi)))
             .sum::<f64>()
             / 3.0;
-        let pushing = mean_stress < jam_pressure;
+        let pushing = mean_stress < fill_pressure;
         let mut at_target = true;
         for (a, (_, hi)) in AXES.iter().enumerate() {
             let left = size[a] - target[a];
@@ -422,10 +434,16 @@ pub fn compact_to_fraction(
                 c.steps
             ));
         }
-        if settled && mean_stress >= jam_pressure {
+        let jammed = if at_target {
+            mean_stress >= jam_pressure
+        } else {
+            mean_stress >= fill_pressure
+        };
+        if settled && jammed {
             return Ok(Err(FractionJammed {
                 target: target_fraction,
                 reached: fraction,
+                stress: mean_stress,
             }));
         }
         if settled && at_target {

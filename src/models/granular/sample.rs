@@ -338,11 +338,19 @@ fn compacted_sample(
         size: target,
     };
     let report = compact_to_fraction(&mut b, &mut walls, &spec, progress)?.map_err(|j| {
+        let at = if j.reached < j.target - 5e-4 {
+            format!("they jammed at about {:.3}", j.reached)
+        } else {
+            format!(
+                "there they are jammed (at rest, they still carry {:.2e} Pa)",
+                j.stress
+            )
+        };
         scene.key_error(
             "sample.solid_fraction",
             format!(
-                "= {:.3} is beyond what frictionless compaction of these grains reaches: they jammed at about {:.3}; ask for at most that, or use more grains (the loose layer along the walls lowers what small boxes reach)",
-                j.target, j.reached
+                "= {:.3} is beyond what frictionless compaction of these grains reaches: {at}; ask for less, or use more grains (the loose layer along the walls lowers what small boxes reach)",
+                j.target
             ),
         )
     })?;
