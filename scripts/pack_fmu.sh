@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the FMI 2.0 co-simulation FMU and packs it into dist/Fractum.fmu:
-# modelDescription.xml, binaries/linux64/fractum_shpb.so, resources/shpb_sand.toml.
+# modelDescription.xml, binaries/linux64/fractum_shpb.so, resources/shpb_sand.toml (the paper's
+# silica sand) and resources/mason_sand_shpb.toml (the calibrated Mason sand, with its grains).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
@@ -32,6 +33,16 @@ version=$(sed -n 's/^version = "\(.*\)"/\1/p' Cargo.toml | head -1)
 date=$(TZ=UTC git log -1 --format=%cd --date=format-local:%Y-%m-%dT%H:%M:%SZ 2>/dev/null || echo 1970-01-01T00:00:00Z)
 sed -e "s/@VERSION@/$version/g" -e "s/@DATE@/$date/g" fmu/modelDescription.xml >"$stage/modelDescription.xml"
 cp scenes/shpb_sand.toml "$stage/resources/"
+# The calibrated Mason sand (parameter scene = "mason_sand_shpb.toml"), with the grain assembly
+# it draws from beside it: inside the FMU the file sits in resources/mason_sand_shpb/, not in the
+# repository's data/.
+mkdir -p "$stage/resources/mason_sand_shpb"
+cp data/mason_sand_shpb/grains_mason_sand_ellipsoids.csv data/mason_sand_shpb/README.md "$stage/resources/mason_sand_shpb/"
+sed 's|"../data/mason_sand_shpb/|"mason_sand_shpb/|' scenes/mason_sand_shpb.toml >"$stage/resources/mason_sand_shpb.toml"
+grep -q '"mason_sand_shpb/grains_mason_sand_ellipsoids.csv"' "$stage/resources/mason_sand_shpb.toml" || {
+    echo "pack_fmu.sh: scenes/mason_sand_shpb.toml no longer names ../data/mason_sand_shpb/grains_mason_sand_ellipsoids.csv" >&2
+    exit 1
+}
 rm -f dist/.Fractum.fmu.tmp
 (cd "$stage" && python3 -m zipfile -c "$root/dist/.Fractum.fmu.tmp" modelDescription.xml binaries resources)
 mv dist/.Fractum.fmu.tmp dist/Fractum.fmu

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{column, run_scene};
+use common::{assert_stable_and_balanced, column, run_scene};
 use serde_json::Value;
 
 const SMALL_BOX: &str = "sample.box=[3.6e-3,3.6e-3,3.6e-3]";
@@ -23,48 +23,6 @@ fn stress_at(s: &Value, strain: &str) -> f64 {
     s["stress_at_strain"][strain]
         .as_f64()
         .unwrap_or_else(|| panic!("no stress_at_strain.{strain}: {}", s["stress_at_strain"]))
-}
-
-/// No NaN or infinity anywhere in the series, and the energy account closes: the platen work
-/// equals the kinetic and elastic energy, what contacts dissipated, what the springs spent and
-/// what the splits released, to within `tolerance` of the work.
-fn assert_stable_and_balanced(s: &Value, series: &str, tolerance: f64) {
-    for line in series.lines().skip(1) {
-        assert!(
-            line.split(',')
-                .all(|v| v.parse::<f64>().is_ok_and(f64::is_finite)),
-            "a series row is not finite: {line}"
-        );
-    }
-    let e = &s["energy"];
-    for key in [
-        "kinetic",
-        "elastic",
-        "boundary_work",
-        "dissipated",
-        "fracture",
-        "split_change",
-        "balance_error",
-    ] {
-        assert!(
-            e[key].as_f64().is_some_and(f64::is_finite),
-            "energy.{key}: {e}"
-        );
-    }
-    let work = e["boundary_work"].as_f64().unwrap();
-    assert!(work > 0.0);
-    let relative = e["balance_error_relative"].as_f64().unwrap();
-    assert!(
-        relative.abs() < tolerance,
-        "energy balance off by {relative}: {e}"
-    );
-    // The same numbers, summed here: what the summary calls the error is what is missing.
-    let sum = e["kinetic"].as_f64().unwrap()
-        + e["elastic"].as_f64().unwrap()
-        + e["dissipated"].as_f64().unwrap()
-        + e["fracture"].as_f64().unwrap()
-        - e["split_change"].as_f64().unwrap();
-    assert!(((sum - work) / work - relative).abs() < 1e-9, "{e}");
 }
 
 #[test]

@@ -1,0 +1,204 @@
+//! Dry Mason sand (data/mason_sand_shpb/, sources in docs/references.md): samples at the
+//! densities of real sand from the measured grains, the measured assembly imported as it is,
+//! and the calibrated SHPB scene at reduced size. The full-size calibration and predictions
+//! are examples/mason_sand.py's, reported in docs/validation.md.
+
+mod common;
+
+use common::{assert_stable_and_balanced, column, repo, run_scene, run_scene_failing};
+use fractum::Scene;
+use fractum::models::granular::sample::from_scene;
+use fractum::shape::Shape;
+
+const SCENE: &str = "scenes/mason_sand_shpb.toml";
+const ASSEMBLY: &str = "data/mason_sand_shpb/grains_mason_sand_ellipsoids.csv";
+
+fn shipped(sets: &[&str]) -> Scene {
+    let sets: Vec<String> = sets.iter().map(|s| s.to_string()).collect();
+    Scene::read(&repo().join(SCENE), &sets).unwrap()
+}
+
+/// The assembly's rows: semi-axes (a, b, c), centre, and the 3 x 3 direction cosines (row:
+/// axis a, b, c; column: world x, y, z), read here independently of the library's reader.
+fn assembly() -> Vec<([f64; 3], [f64; 3], [[f64; 3]; 3])> {
+    let text = std::fs::read_to_string(repo().join(ASSEMBLY)).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').skip(1).map(|t| t.parse().unwrap()).collect();
+            let cos = [0, 1, 2].map(|axis| [0, 1, 2].map(|world| v[6 + 3 * axis + world].cos()));
+            ([v[0], v[1], v[2]], [v[3], v[4], v[5]], cos)
+        })
+        .collect()
+}
+
+#[test]
+fn mason_sand_grains_reach_0_66_in_a_small_box_reproducibly_and_0_80_is_refused() {
+    // 2 mm box: about 200 grains, seven median grain diameters a side.
+    let sets = ["sample.box=[2e-3,2e-3,2e-3]", "sample.solid_fraction=0.66"];
+    let a = from_scene(&shipped(&sets), &mut |_| {}).unwrap();
+    let rows = assembly();
+    let volumes: Vec<f64> = rows
+        .iter()
+        .map(|(s, _, _)| 4.0 / 3.0 * std::f64::consts::PI * s[0] * s[1] * s[2])
+        .collect();
+    let largest = volumes.iter().copied().fold(0.0, f64::max) / 8e-9;
+    // Grains are drawn until they fill 0.66: at most one grain's volume more.
+    let phi = a.info.solid_fraction;
+    assert!(phi >= 0.66 && phi < 0.66 + largest, "{phi}");
+    assert_eq!(a.info.box_size, [2e-3, 2e-3, 2e-3]);
+    // Every grain an ellipsoid (equal halves) of the assembly's semi-axes, inside the box.
+    for i in 0..a.bodies.len() {
+        let Shape::PolyEllipsoid { pe, .. } = a.bodies.shape[i] else {
+            panic!("body {i} is not an ellipsoid");
+        };
+        let s = pe.semi;
+        assert!(s[0] == s[1] && s[2] == s[3] && s[4] == s[5], "{s:?}");
+        assert!(
+            rows.iter().any(|(r, _, _)| *r == [s[0], s[2], s[4]]),
+            "semi-axes {s:?} are not an assembly grain's"
+        );
+        let p = a.bodies.pos[i];
+        assert!(p.iter().all(|&x| (0.0..=2e-3).contains(&x)), "{p}");
+    }
+    // The same seed builds the same sample, bit for bit.
+    let b = from_scene(&shipped(&sets), &mut |_| {}).unwrap();
+    assert_eq!(a.bodies.pos, b.bodies.pos);
+    assert_eq!(a.bodies.orientation, b.bodies.orientation);
+
+    // 0.80 is denser than random packings of such grains get: one sentence naming the key and
+    // where the grains jammed. Frictionless ellipsoids of these aspect ratios jam near
+    // 0.70-0.74 in bulk (Donev et al. 2004); the wall layers of a small box lower that, and
+    // ellipsoids pack denser than spheres' random close packing, 0.64.
+    let (code, stderr, wrote) = run_scene_failing(
+        SCENE,
+        &[
+            "--set",
+            "sample.box=[2e-3,2e-3,2e-3]",
+            "--set",
+            "sample.solid_fraction=0.80",
+        ],
+    );
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(!wrote, "a refused sample left an output folder");
+    let line = stderr.trim();
+    assert_eq!(line.lines().count(), 1, "{stderr}");
+    assert!(
+        line.contains("sample.solid_fraction") && line.contains("jammed at about"),
+        "{line}"
+    );
+    let at: f64 = line.split("jammed at about ").nth(1).unwrap()[..5]
+        .parse()
+        .unwrap();
+    assert!((0.64..0.74).contains(&at), "{line}");
+}
+
+#[test]
+fn the_mason_sand_assembly_imports_with_its_grains_semi_axes_and_orientations() {
+    let text = format!(
+        r#"
+name = "assembly"
+effects = ["contact"]
+[material]
+young = 29e9
+poisson = 0.18
+density = 2650.0
+[sample]
+kind = "ellipsoid_assembly"
+file = "{ASSEMBLY}"
+[loading]
+kind = "none"
+end_time = 1e-6
+"#
+    );
+    let scene = Scene::from_toml(&text, "assembly", &repo(), &[]).unwrap();
+    let sample = from_scene(&scene, &mut |_| {}).unwrap();
+    let rows = assembly();
+    assert_eq!(rows.len(), 644);
+    assert_eq!(sample.bodies.len(), 644);
+    for (i, (semi, centre, cos)) in rows.iter().enumerate() {
+        let Shape::PolyEllipsoid { pe, .. } = sample.bodies.shape[i] else {
+            panic!("body {i} is not an ellipsoid");
+        };
+        let s = pe.semi;
+        for (k, v) in [s[0], s[2], s[4]].iter().enumerate() {
+            assert!(
+                (v / semi[k] - 1.0).abs() <= 1e-12,
+                "grain {i}: {s:?} {semi:?}"
+            );
+        }
+        assert!(s[0] == s[1] && s[2] == s[3] && s[4] == s[5]);
+        let (origin, q) = sample.bodies.shape_placement(i);
+        for k in 0..3 {
+            assert!((origin[k] - centre[k]).abs() <= 1e-12 * 3e-3, "grain {i}");
+        }
+        // The shape frame's axes in the world: the nearest rotation to the file's cosines
+        // (to 1e-12), which are themselves orthonormal only to their 7 printed digits.
+        let m = nalgebra::Matrix3::from_fn(|world, axis| cos[axis][world]);
+        let nearest =
+            nalgebra::Rotation3::from_matrix_eps(&m, 1e-15, 100, nalgebra::Rotation3::identity());
+        let r = q.to_rotation_matrix();
+        let off = (r.matrix() - nearest.matrix()).abs().max();
+        assert!(off <= 1e-12, "grain {i}: rotation off by {off:e}");
+        let raw = (r.matrix() - m).abs().max();
+        assert!(raw <= 3e-6, "grain {i}: off the file's cosines by {raw:e}");
+    }
+    // The box its grains span: the 3 mm cube of the study, solid fraction 0.583.
+    let size = sample.info.box_size;
+    for (k, want) in [3e-3, 3e-3, 3e-3].iter().enumerate() {
+        assert!((size[k] - want).abs() < 1e-7, "{size:?}");
+    }
+    assert!(
+        (sample.info.solid_fraction - 0.5833).abs() < 1e-3,
+        "{}",
+        sample.info.solid_fraction
+    );
+}
+
+#[test]
+fn the_calibrated_mason_sand_scene_runs_to_0_02_strain_at_reduced_size() {
+    let (_dir, s, series) = run_scene(
+        SCENE,
+        &[
+            "--threads",
+            "2",
+            "--set",
+            "sample.box=[2e-3,2e-3,2e-3]",
+            "--set",
+            "loading.end_strain=0.02",
+            "--set",
+            "output.report_strains=[0.01,0.02]",
+        ],
+    );
+    assert!((s["strain_final"].as_f64().unwrap() - 0.02).abs() < 1e-3);
+    let phi = s["solid_fraction_initial"].as_f64().unwrap();
+    assert!((0.574..0.59).contains(&phi), "{phi}");
+    // The main job's energy check (docs/validation.md): within 2% of the face work.
+    assert_stable_and_balanced(&s, &series, 0.02);
+    // Each face and the sides at the report strains, named apart. Wall friction carries part
+    // of the load, so the face opposite the driven one carries less; frictional grains press
+    // their sides with less than the axial stress (K0 < 1).
+    for e in ["0.01", "0.02"] {
+        let driven = s["stress_driven_at_strain"][e].as_f64().unwrap();
+        let opposite = s["stress_opposite_at_strain"][e].as_f64().unwrap();
+        let lateral = s["stress_lateral_at_strain"][e].as_f64().unwrap();
+        let mean = s["stress_at_strain"][e].as_f64().unwrap();
+        assert!(
+            (mean - 0.5 * (driven + opposite)).abs() <= 1e-9 * mean,
+            "{e}"
+        );
+        assert!(
+            opposite > 0.0 && opposite < driven,
+            "{e}: {opposite} {driven}"
+        );
+        assert!(lateral > 0.0 && lateral < mean, "{e}: {lateral} {mean}");
+    }
+    // The summary's value is series.csv's, interpolated.
+    let eps = column(&series, "axial_strain");
+    let bottom = column(&series, "stress_opposite");
+    let k = eps.iter().position(|&x| x >= 0.02).unwrap();
+    let t = (0.02 - eps[k - 1]) / (eps[k] - eps[k - 1]);
+    let want = bottom[k - 1] + t * (bottom[k] - bottom[k - 1]);
+    let got = s["stress_opposite_at_strain"]["0.02"].as_f64().unwrap();
+    assert!((got - want).abs() <= 1e-9 * want.abs(), "{got} {want}");
+}
