@@ -279,11 +279,23 @@ def report(args):
                  for r in runs if at(r["strain"], r["opposite"], 0.25)]
         lines.append(f"| {label}, {len(runs)} seeds | " + " | ".join(cells)
                      + f" | {fmt(statistics.mean(ratio) if ratio else None, 2)} |")
+    # The paper's own main job (silica sand, solid fraction 0.55, 500/s, 6 mm cube), seed 1:
+    # `fractum run scenes/shpb_sand.toml --out target/mason_sand/main_job_seed1`.
+    main = os.path.join(WORK, "main_job_seed1")
+    if os.path.exists(os.path.join(main, "summary.json")):
+        runs = [series(main)]
+        curves["main_job"] = ("paper's main job: silica, 1460 kg/m3, 500/s (seed 1)", runs)
+        cells = [fmt(at(runs[0]["strain"], runs[0]["opposite"], e)) for e in REPORT_STRAINS]
+        ratio = at(runs[0]["strain"], runs[0]["lateral"], 0.25) / at(runs[0]["strain"], runs[0]["opposite"], 0.25)
+        lines.append("| paper's main job (silica sand, 1460 kg/m3, 500/s), seed 1 | "
+                     + " | ".join(cells) + f" | {ratio:.2f} |")
     print("\n".join(lines))
     # The power of density at 0.1 and 0.2 strain (least squares in log-log over all densities).
     for e in (0.10, 0.20):
         xs, ys = [], []
         for name, (label, runs) in curves.items():
+            if name == "main_job":
+                continue
             rho = 1520 if name == "scene" else int(name.split("_")[1])
             v = [at(r["strain"], r["opposite"], e) for r in runs]
             if all(x is not None for x in v):
