@@ -194,7 +194,6 @@ void FixFractumFracture::arrays()
 
 void FixFractumFracture::init()
 {
-  fractum_check_version(lmp, STYLE);
   pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
   if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular", STYLE);
   arrays();    // stops with the first missing array named

