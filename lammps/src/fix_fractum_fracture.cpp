@@ -613,10 +613,10 @@ void FixFractumFracture::pre_exchange()
   if (n > 0) {
     // Drop the ghosts first, as Comm::exchange (next in this step) would, and as fix deposit
     // and fix pour do before they insert atoms: a created atom goes to slot nlocal, which a
-    // ghost still occupies here, and lammps_create_atoms then maps nlocal + nghost slots, the
-    // last of them past the ghosts, holding a stale tag, at which it reads and writes the atom
-    // map (the 2-rank crush_grain crash: the half lands on a rank that holds ghosts of its
-    // parent). Nothing reads ghosts between here and the exchange's borders.
+    // ghost still occupies here, and lammps_create_atoms then maps nlocal + nghost slots, as
+    // many past the ghosts as it created, whose stale or never-written tags it reads and
+    // writes the atom map at (the 2-rank crush_grain crash: the half lands on a rank that holds
+    // ghosts of its parent). Nothing reads ghosts between here and the exchange's borders.
     if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
     atom->nghost = 0;
     bigint before = atom->natoms;
