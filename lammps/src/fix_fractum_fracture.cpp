@@ -194,7 +194,6 @@ void FixFractumFracture::arrays()
 
 void FixFractumFracture::init()
 {
-  fractum_check_version(lmp, STYLE);
   pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
   if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular", STYLE);
   arrays();    // stops with the first missing array named
@@ -612,6 +611,14 @@ void FixFractumFracture::pre_exchange()
   std::vector<int> type_all(n);
   MPI_Allreduce(types.data(), type_all.data(), n, MPI_INT, MPI_MAX, world);
   if (n > 0) {
+    // Drop the ghosts first, as Comm::exchange (next in this step) would, and as fix deposit
+    // and fix pour do before they insert atoms: a created atom goes to slot nlocal, which a
+    // ghost still occupies here, and lammps_create_atoms then maps nlocal + nghost slots, as
+    // many past the ghosts as it created, whose stale or never-written tags it reads and
+    // writes the atom map at (the 2-rank crush_grain crash: the half lands on a rank that holds
+    // ghosts of its parent). Nothing reads ghosts between here and the exchange's borders.
+    if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
+    atom->nghost = 0;
     bigint before = atom->natoms;
     lammps_create_atoms(lmp, n, ids.data(), type_all.data(), xs.data(), vs.data(), nullptr, 0);
     if (atom->natoms != before + n)

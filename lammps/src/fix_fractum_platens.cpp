@@ -82,7 +82,6 @@ int FixFractumPlatens::setmask()
 
 void FixFractumPlatens::init()
 {
-  fractum_check_version(lmp, STYLE);
   pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
   if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular (it takes its law)", STYLE);
   law = pair->law_with(wall_friction >= 0 ? wall_friction

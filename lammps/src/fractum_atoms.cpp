@@ -2,18 +2,7 @@
 
 #include "lammps.h"
 
-#include <cstring>
-
 using namespace LAMMPS_NS;
-
-void LAMMPS_NS::fractum_check_version(LAMMPS *lmp, const char *style)
-{
-  if (std::strcmp(lmp->version, FRACTUM_LAMMPS_VERSION) != 0)
-    lmp->error->all(FLERR,
-                    "{}: this Fractum plugin was built for LAMMPS {} and this is LAMMPS {}; "
-                    "rebuild it against this LAMMPS's headers (make lammps-plugin)",
-                    style, FRACTUM_LAMMPS_VERSION, lmp->version);
-}
 
 double **LAMMPS_NS::fractum_array_if(LAMMPS *lmp, const char *name, int *cols)
 {

