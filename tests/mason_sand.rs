@@ -18,9 +18,12 @@ fn shipped(sets: &[&str]) -> Scene {
     Scene::read(&repo().join(SCENE), &sets).unwrap()
 }
 
-/// The assembly's rows: semi-axes (a, b, c), centre, and the 3 x 3 direction cosines (row:
-/// axis a, b, c; column: world x, y, z), read here independently of the library's reader.
-fn assembly() -> Vec<([f64; 3], [f64; 3], [[f64; 3]; 3])> {
+/// One row of the assembly: semi-axes (a, b, c), centre, and the 3 x 3 direction cosines
+/// (row: axis a, b, c; column: world x, y, z).
+type Row = ([f64; 3], [f64; 3], [[f64; 3]; 3]);
+
+/// The assembly's rows, read here independently of the library's reader.
+fn assembly() -> Vec<Row> {
     let text = std::fs::read_to_string(repo().join(ASSEMBLY)).unwrap();
     text.lines()
         .skip(1)

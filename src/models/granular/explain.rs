@@ -18,7 +18,10 @@ pub fn explain(scene: &Scene) -> Result<String> {
         "scene {} (\"{}\"), seed {}",
         scene.source.label, scene.name, scene.seed
     );
-    let _ = writeln!(s, "model: granular, spheres with Hertz–Mindlin contacts");
+    let _ = writeln!(
+        s,
+        "model: granular, rigid grains (spheres, poly-ellipsoids) with Hertz–Mindlin contacts"
+    );
     let _ = writeln!(s, "sample: {}", describe_sample(&cfg));
     write_pipeline(
         &mut s,
