@@ -513,3 +513,31 @@ fn a_packing_that_jams_names_the_key_to_change() {
         ],
     );
 }
+
+#[test]
+fn a_projectile_speed_at_or_above_the_speed_of_light_is_refused() {
+    // A projectile at 1e308 m/s has a finite velocity but an infinite kinetic energy: the run
+    // wrote `inf` into series.csv and ended with exit code 0.
+    let b = std::fs::read_to_string(common::repo().join("scenes/impact_block.toml")).unwrap();
+    for speed in ["1e308", "299792458"] {
+        fails(
+            &b,
+            &["--set", &format!("loading.speed={speed}")],
+            &["loading.speed", "(0, 299792458)", "m/s", "speed of light"],
+        );
+    }
+}
+
+#[test]
+fn a_non_finite_series_value_stops_the_run_instead_of_being_written() {
+    // An explosion of 1e308 J gives finite velocities and a kinetic energy that is not: the
+    // series row must not reach series.csv as `inf` or NaN with exit code 0.
+    let (code, stderr, _) =
+        common::run_scene_failing("scenes/explosion_disc.toml", &["--set", "loading.energy=1e308"]);
+    assert_eq!(code, Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("kinetic_energy") && stderr.contains("step 0") && stderr.contains("energies"),
+        "{stderr}"
+    );
+}

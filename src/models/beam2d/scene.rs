@@ -298,6 +298,10 @@ fn validate_material(s: &Scene, m: &Material) -> Result<()> {
     Ok(())
 }
 
+/// The projectile's speed must stay below this (m/s): the polygons move by Newton's laws, and a
+/// speed of 1e308 m/s, finite itself, gave an infinite kinetic energy in series.csv.
+const SPEED_OF_LIGHT: f64 = 299_792_458.0;
+
 fn validate_loading(s: &Scene, l: &LoadingSpec, p: &SampleSpec) -> Result<()> {
     let kind = l.kind.as_str();
     let why = format!("for loading.kind = \"{kind}\"");
@@ -338,7 +342,13 @@ fn validate_loading(s: &Scene, l: &LoadingSpec, p: &SampleSpec) -> Result<()> {
                     ));
                 }
                 let v = require(s, "loading.speed", l.speed, &why)?;
-                check(s, "loading.speed", v, Range::POSITIVE, "m/s")?;
+                check(
+                    s,
+                    "loading.speed",
+                    v,
+                    Range::open(0.0, SPEED_OF_LIGHT),
+                    "m/s (below the speed of light: the model is Newtonian)",
+                )?;
             }
             let end = require(
                 s,
