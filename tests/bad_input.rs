@@ -541,3 +541,34 @@ fn a_non_finite_series_value_stops_the_run_instead_of_being_written() {
         "{stderr}"
     );
 }
+
+#[test]
+fn export_of_a_dlsm_or_beam2d_scene_says_export_takes_granular_scenes() {
+    // Export read any scene as a granular one and refused the other model's keys (`loading.kind
+    // = "tension" is not allowed`, `unknown key fragments`), never saying what was wrong.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for (scene, kind) in [
+        ("dlsm_tensile.toml", "dlsm"),
+        ("impact_block.toml", "beam2d"),
+        ("explosion_disc.toml", "beam2d"),
+    ] {
+        for format in ["lammps", "yade"] {
+            let file = common::repo().join("scenes").join(scene);
+            let o = common::fractum(
+                dir.path(),
+                &["export", format, file.to_str().unwrap(), out.to_str().unwrap()],
+            );
+            let stderr = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{scene} {format}: {stderr}");
+            assert_eq!(stderr.lines().count(), 1, "{stderr}");
+            assert!(
+                stderr.contains(file.to_str().unwrap())
+                    && stderr.contains(&format!("model.kind = \"{kind}\""))
+                    && stderr.contains("granular scenes only"),
+                "{scene} {format}: {stderr}"
+            );
+            assert!(!out.exists());
+        }
+    }
+}
