@@ -572,3 +572,22 @@ fn export_of_a_dlsm_or_beam2d_scene_says_export_takes_granular_scenes() {
         }
     }
 }
+
+#[test]
+fn a_young_modulus_that_gives_a_zero_automatic_step_is_named() {
+    // dlsm with material.young = 1e308: the automatic step underflowed to 0 s and the message
+    // said "time.dt = 0.0000e0 s needs inf steps", not which key to change.
+    let (code, stderr, out) = common::run_scene_failing(
+        "scenes/dlsm_tensile.toml",
+        &["--set", "material.young=1e308"],
+    );
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(!out);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("material.young (set with --set) = 1e308 Pa is too stiff")
+            && stderr.contains("lower material.young")
+            && !stderr.contains("inf steps"),
+        "{stderr}"
+    );
+}

@@ -57,6 +57,24 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
     if steps.is_finite() && steps <= MAX_STEPS {
         return Ok(());
     }
+    let auto = matches!(scene.time.dt, crate::scene::DtSpec::Auto);
+    if auto && !dt.is_normal() {
+        // The critical step scales as 1/sqrt(young): a modulus near the largest double gives a
+        // zero or denormal step, and "time.dt = 0 s needs inf steps" blamed the wrong key.
+        let young = scene
+            .tables
+            .get("material")
+            .and_then(|m| m.get("young"))
+            .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
+        if let Some(young) = young {
+            return Err(scene.key_error(
+                "material.young",
+                format!(
+                    "= {young:e} Pa is too stiff for time.dt = \"auto\": the critical step of the material and sample comes out as {dt:e} s (zero or denormal), which cannot reach the end of the loading at {end_time:.4e} s within the limit of 1e9 steps; lower material.young"
+                ),
+            ));
+        }
+    }
     let how = match scene.time.dt {
         crate::scene::DtSpec::Auto => {
             " (auto: time.safety x the critical step of the material and sample)"
