@@ -591,3 +591,38 @@ fn a_young_modulus_that_gives_a_zero_automatic_step_is_named() {
         "{stderr}"
     );
 }
+
+#[test]
+fn an_explosion_disc_is_refused_by_its_printed_bound_and_builds_above_it() {
+    // Discs of 0.033-0.036 m (3.1-3.3 spacings) passed the printed range "more than three
+    // lattice spacings" and were then refused at build by a sentence naming neither key nor
+    // bound ("its centre polygon lies on the outline"), depending on the seed.
+    let b = beam2d_base();
+    for d in ["0.033", "0.034", "0.035", "0.036", "0.129"] {
+        fails(
+            &b,
+            &["--set", &format!("sample.diameter={d}")],
+            &["sample.diameter", "[0.1296, ∞) m", "12 lattice spacings"],
+        );
+    }
+    for seed in 1..=5 {
+        let (dir, file) = common::scene_file(&b);
+        let o = common::fractum(
+            dir.path(),
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "--set",
+                "sample.diameter=0.1296",
+                "--set",
+                &format!("seed={seed}"),
+                "--set",
+                "loading.end_time=1e-6",
+                "--out",
+                dir.path().join("out").to_str().unwrap(),
+                "--quiet",
+            ],
+        );
+        assert!(o.status.success(), "seed {seed}: {}", String::from_utf8_lossy(&o.stderr));
+    }
+}
