@@ -532,12 +532,16 @@ fn a_projectile_speed_at_or_above_the_speed_of_light_is_refused() {
 fn a_non_finite_series_value_stops_the_run_instead_of_being_written() {
     // An explosion of 1e308 J gives finite velocities and a kinetic energy that is not: the
     // series row must not reach series.csv as `inf` or NaN with exit code 0.
-    let (code, stderr, _) =
-        common::run_scene_failing("scenes/explosion_disc.toml", &["--set", "loading.energy=1e308"]);
+    let (code, stderr, _) = common::run_scene_failing(
+        "scenes/explosion_disc.toml",
+        &["--set", "loading.energy=1e308"],
+    );
     assert_eq!(code, Some(1), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
     assert!(
-        stderr.contains("kinetic_energy") && stderr.contains("step 0") && stderr.contains("energies"),
+        stderr.contains("kinetic_energy")
+            && stderr.contains("step 0")
+            && stderr.contains("energies"),
         "{stderr}"
     );
 }
@@ -557,7 +561,12 @@ fn export_of_a_dlsm_or_beam2d_scene_says_export_takes_granular_scenes() {
             let file = common::repo().join("scenes").join(scene);
             let o = common::fractum(
                 dir.path(),
-                &["export", format, file.to_str().unwrap(), out.to_str().unwrap()],
+                &[
+                    "export",
+                    format,
+                    file.to_str().unwrap(),
+                    out.to_str().unwrap(),
+                ],
             );
             let stderr = String::from_utf8_lossy(&o.stderr);
             assert_eq!(o.status.code(), Some(2), "{scene} {format}: {stderr}");
@@ -623,6 +632,10 @@ fn an_explosion_disc_is_refused_by_its_printed_bound_and_builds_above_it() {
                 "--quiet",
             ],
         );
-        assert!(o.status.success(), "seed {seed}: {}", String::from_utf8_lossy(&o.stderr));
+        assert!(
+            o.status.success(),
+            "seed {seed}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
     }
 }

@@ -97,7 +97,10 @@ pub fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> 
         };
         Err(scene.key_error(
             key,
-            format!("= {} is outside the allowed range {range}{unit}", number(value)),
+            format!(
+                "= {} is outside the allowed range {range}{unit}",
+                number(value)
+            ),
         ))
     }
 }
