@@ -652,7 +652,8 @@ enum FractumStatus fractum_kernel_check(const struct FractumFractureLaw *law,
 // halves moving as the parent did, and the pending bond (the parent's acceleration force x
 // (1 / mass), angular acceleration, centroid and angular velocity, and with cohesion
 // (`law->springs` > 0) the spring points on the break plane and the area each stands for). `out->axis` = -1
-// when the grain's shape forbids breaking.
+// when the grain's shape forbids breaking. FRACTUM_ERR_INPUT when the parent's radius or mass
+// is not finite and positive.
 enum FractumStatus fractum_kernel_split(const struct FractumFractureLaw *law,
                                         const struct FractumBody *parent,
                                         const double *force,

@@ -513,3 +513,129 @@ fn a_packing_that_jams_names_the_key_to_change() {
         ],
     );
 }
+
+#[test]
+fn a_projectile_speed_at_or_above_the_speed_of_light_is_refused() {
+    // A projectile at 1e308 m/s has a finite velocity but an infinite kinetic energy: the run
+    // wrote `inf` into series.csv and ended with exit code 0.
+    let b = std::fs::read_to_string(common::repo().join("scenes/impact_block.toml")).unwrap();
+    for speed in ["1e308", "299792458"] {
+        fails(
+            &b,
+            &["--set", &format!("loading.speed={speed}")],
+            &["loading.speed", "(0, 299792458)", "m/s", "speed of light"],
+        );
+    }
+}
+
+#[test]
+fn a_non_finite_series_value_stops_the_run_instead_of_being_written() {
+    // An explosion of 1e308 J gives finite velocities and a kinetic energy that is not: the
+    // series row must not reach series.csv as `inf` or NaN with exit code 0.
+    let (code, stderr, _) = common::run_scene_failing(
+        "scenes/explosion_disc.toml",
+        &["--set", "loading.energy=1e308"],
+    );
+    assert_eq!(code, Some(1), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("kinetic_energy")
+            && stderr.contains("step 0")
+            && stderr.contains("energies"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn export_of_a_dlsm_or_beam2d_scene_says_export_takes_granular_scenes() {
+    // Export read any scene as a granular one and refused the other model's keys (`loading.kind
+    // = "tension" is not allowed`, `unknown key fragments`), never saying what was wrong.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for (scene, kind) in [
+        ("dlsm_tensile.toml", "dlsm"),
+        ("impact_block.toml", "beam2d"),
+        ("explosion_disc.toml", "beam2d"),
+    ] {
+        for format in ["lammps", "yade"] {
+            let file = common::repo().join("scenes").join(scene);
+            let o = common::fractum(
+                dir.path(),
+                &[
+                    "export",
+                    format,
+                    file.to_str().unwrap(),
+                    out.to_str().unwrap(),
+                ],
+            );
+            let stderr = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{scene} {format}: {stderr}");
+            assert_eq!(stderr.lines().count(), 1, "{stderr}");
+            assert!(
+                stderr.contains(file.to_str().unwrap())
+                    && stderr.contains(&format!("model.kind = \"{kind}\""))
+                    && stderr.contains("granular scenes only"),
+                "{scene} {format}: {stderr}"
+            );
+            assert!(!out.exists());
+        }
+    }
+}
+
+#[test]
+fn a_young_modulus_that_gives_a_zero_automatic_step_is_named() {
+    // dlsm with material.young = 1e308: the automatic step underflowed to 0 s and the message
+    // said "time.dt = 0.0000e0 s needs inf steps", not which key to change.
+    let (code, stderr, out) = common::run_scene_failing(
+        "scenes/dlsm_tensile.toml",
+        &["--set", "material.young=1e308"],
+    );
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(!out);
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("material.young (set with --set) = 1e308 Pa is too stiff")
+            && stderr.contains("lower material.young")
+            && !stderr.contains("inf steps"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn an_explosion_disc_is_refused_by_its_printed_bound_and_builds_above_it() {
+    // Discs of 0.033-0.036 m (3.1-3.3 spacings) passed the printed range "more than three
+    // lattice spacings" and were then refused at build by a sentence naming neither key nor
+    // bound ("its centre polygon lies on the outline"), depending on the seed.
+    let b = beam2d_base();
+    for d in ["0.033", "0.034", "0.035", "0.036", "0.129"] {
+        fails(
+            &b,
+            &["--set", &format!("sample.diameter={d}")],
+            &["sample.diameter", "[0.1296, ∞) m", "12 lattice spacings"],
+        );
+    }
+    for seed in 1..=5 {
+        let (dir, file) = common::scene_file(&b);
+        let o = common::fractum(
+            dir.path(),
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "--set",
+                "sample.diameter=0.1296",
+                "--set",
+                &format!("seed={seed}"),
+                "--set",
+                "loading.end_time=1e-6",
+                "--out",
+                dir.path().join("out").to_str().unwrap(),
+                "--quiet",
+            ],
+        );
+        assert!(
+            o.status.success(),
+            "seed {seed}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
+}

@@ -390,6 +390,14 @@ fn body_in(b: &FractumBody) -> Result<Body, FractumStatus> {
     })
 }
 
+/// A grain to split: a body whose radius and mass are finite and positive. A zero-radius
+/// sphere split into zero semi-axes and panicked where the halves are built.
+fn grain_in(b: &FractumBody) -> Result<Body, FractumStatus> {
+    let sized = |x: f64| x.is_finite() && x > 0.0;
+    input_if(!(sized(b.radius) && sized(b.mass)))?;
+    body_in(b)
+}
+
 fn body_out(b: &Body) -> FractumBody {
     let (semi, origin, to_body) = match &b.shape {
         Shape::PolyEllipsoid {
@@ -1333,7 +1341,8 @@ fn pending_in(s: &FractumPending) -> Result<PendingSplit, FractumStatus> {
 /// halves moving as the parent did, and the pending bond (the parent's acceleration force x
 /// (1 / mass), angular acceleration, centroid and angular velocity, and with cohesion
 /// (`law->springs` > 0) the spring points on the break plane and the area each stands for). `out->axis` = -1
-/// when the grain's shape forbids breaking.
+/// when the grain's shape forbids breaking. FRACTUM_ERR_INPUT when the parent's radius or mass
+/// is not finite and positive.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_split(
     law: *const FractumFractureLaw,
@@ -1346,7 +1355,7 @@ pub extern "C" fn fractum_kernel_split(
 ) -> FractumStatus {
     kernel(|| {
         let p = fracture_params(get(law)?)?;
-        let parent = body_in(get(parent)?)?;
+        let parent = grain_in(get(parent)?)?;
         let (force, torque) = (vec3_at(force)?, vec3_at(torque)?);
         let trigger = trigger_in(get(trigger)?)?;
         let jitter = if jitter.is_null() {
@@ -3204,6 +3213,49 @@ mod tests {
             &mut br,
         );
         assert_eq!(s, FRACTUM_ERR_INPUT);
+    }
+
+    /// A grain of zero (or negative, or non-finite) radius or mass is refused with
+    /// FRACTUM_ERR_INPUT: a zero-radius sphere panicked in the split (FRACTUM_ERR_INTERNAL and
+    /// a panic message on the host's stderr).
+    #[test]
+    fn split_of_a_grain_without_size_or_mass_is_refused_as_input() {
+        let mut d = Draw::new(11);
+        let fl = fracture_law(4, true, true);
+        let hb = FractumTrigger {
+            kind: 1,
+            ..Default::default()
+        };
+        let v = [0.0; 3];
+        for sphere in [true, false] {
+            let good = fb(&random_body(&mut d, sphere));
+            for (radius, mass) in [
+                (0.0, good.mass),
+                (-1e-3, good.mass),
+                (f64::NAN, good.mass),
+                (f64::INFINITY, good.mass),
+                (good.radius, 0.0),
+                (good.radius, f64::NAN),
+            ] {
+                let mut bad = good;
+                bad.radius = radius;
+                bad.mass = mass;
+                let mut split = FractumSplit::default();
+                let s = fractum_kernel_split(
+                    &fl,
+                    &bad,
+                    v.as_ptr(),
+                    v.as_ptr(),
+                    &hb,
+                    null(),
+                    &mut split,
+                );
+                assert_eq!(
+                    s, FRACTUM_ERR_INPUT,
+                    "sphere {sphere}, radius {radius}, mass {mass}"
+                );
+            }
+        }
     }
 
     /// The kernels leave the handle API's last-error message alone.

@@ -257,6 +257,16 @@ fn c_str(p: fmi2String) -> Option<String> {
     Some(unsafe { CStr::from_ptr(p) }.to_string_lossy().to_string())
 }
 
+/// Why `fmi2Instantiate` refuses the GUID `given` (NULL: none). The value itself, not the
+/// `Some("...")` of its Rust option, which hosts' logs showed.
+fn guid_mismatch(given: Option<&str>) -> String {
+    let given = match given {
+        Some(g) => format!("\"{g}\""),
+        None => "none".to_string(),
+    };
+    format!("GUID {given} does not match this FMU's {}", FmuModel::GUID)
+}
+
 /// The folder of a `file:` resource URI, percent-decoded.
 pub fn resource_dir(uri: &str) -> Option<PathBuf> {
     let rest = uri
@@ -365,12 +375,7 @@ pub unsafe extern "C" fn fmi2Instantiate(
         }
         match c_str(guid) {
             Some(g) if g == FmuModel::GUID => {}
-            g => {
-                return fail(
-                    &inst,
-                    format!("GUID {g:?} does not match this FMU's {}", FmuModel::GUID),
-                );
-            }
+            g => return fail(&inst, guid_mismatch(g.as_deref())),
         }
         let uri = c_str(resource_location).unwrap_or_default();
         let resources = if uri.is_empty() {
@@ -983,5 +988,18 @@ mod tests {
             Some(PathBuf::from("/a/b"))
         );
         assert_eq!(resource_dir("http://x/y"), None);
+    }
+
+    #[test]
+    fn a_wrong_guid_is_quoted_as_given_and_a_missing_one_is_none() {
+        let wrong = guid_mismatch(Some("{not-the-guid}"));
+        assert!(
+            wrong.starts_with("GUID \"{not-the-guid}\" does not match"),
+            "{wrong}"
+        );
+        assert!(!wrong.contains("Some("), "{wrong}");
+        assert!(wrong.ends_with(FmuModel::GUID), "{wrong}");
+        let missing = guid_mismatch(None);
+        assert!(missing.starts_with("GUID none does not match"), "{missing}");
     }
 }

@@ -57,6 +57,24 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
     if steps.is_finite() && steps <= MAX_STEPS {
         return Ok(());
     }
+    let auto = matches!(scene.time.dt, crate::scene::DtSpec::Auto);
+    if auto && !dt.is_normal() {
+        // The critical step scales as 1/sqrt(young): a modulus near the largest double gives a
+        // zero or denormal step, and "time.dt = 0 s needs inf steps" blamed the wrong key.
+        let young = scene
+            .tables
+            .get("material")
+            .and_then(|m| m.get("young"))
+            .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
+        if let Some(young) = young {
+            return Err(scene.key_error(
+                "material.young",
+                format!(
+                    "= {young:e} Pa is too stiff for time.dt = \"auto\": the critical step of the material and sample comes out as {dt:e} s (zero or denormal), which cannot reach the end of the loading at {end_time:.4e} s within the limit of 1e9 steps; lower material.young"
+                ),
+            ));
+        }
+    }
     let how = match scene.time.dt {
         crate::scene::DtSpec::Auto => {
             " (auto: time.safety x the critical step of the material and sample)"
@@ -419,15 +437,15 @@ impl<M: Model> Runner<M> {
     ) -> Result<Self> {
         let threads = Threads::new(threads)?;
         let built = threads.run(false, || M::build(&scene, progress))?;
-        Ok(Runner::start(scene, built, threads))
+        Runner::start(scene, built, threads)
     }
 
     /// Sets a run up on a model built elsewhere.
     pub fn from_built(scene: Scene, built: Built<M>, threads: usize) -> Result<Self> {
-        Ok(Runner::start(scene, built, Threads::new(threads)?))
+        Runner::start(scene, built, Threads::new(threads)?)
     }
 
-    fn start(scene: Scene, built: Built<M>, threads: Threads) -> Self {
+    fn start(scene: Scene, built: Built<M>, threads: Threads) -> Result<Self> {
         let mut run = Runner {
             scene,
             clock: Clock {
@@ -443,8 +461,8 @@ impl<M: Model> Runner<M> {
             limits: CallLimits::default(),
             threads,
         };
-        run.record_row();
-        run
+        run.record_row()?;
+        Ok(run)
     }
 
     /// Restores a run from the bytes [`Run::save_state`] wrote for this scene.
@@ -614,18 +632,35 @@ impl<M: Model> Runner<M> {
         }
         self.model
             .at_output(&self.scene, &mut self.clock, &mut self.warnings)?;
-        self.record_row();
+        self.record_row()?;
         self.model.after_row(&self.clock, &self.series);
         Ok(())
     }
 
-    fn record_row(&mut self) {
+    /// Records the series row of this step. A row with a non-finite value stops the run: the
+    /// bodies can be finite while what is measured from them is not (a beam2d projectile at
+    /// 1e308 m/s has a finite velocity and an infinite kinetic energy), and series.csv got `inf`
+    /// with exit code 0.
+    fn record_row(&mut self) -> Result<()> {
         if self.last_row == Some(self.clock.step) {
-            return;
+            return Ok(());
         }
         self.last_row = Some(self.clock.step);
         let row = self.model.row(&self.clock);
+        if let Some(c) = row.iter().position(|v| !v.is_finite()) {
+            let hint = if self.clock.step == 0 {
+                "the scene's initial state overflows: check the loading's speeds and energies"
+                    .to_string()
+            } else {
+                self.model.instability_hint(&self.scene, &self.clock)
+            };
+            return Err(Error::run(format!(
+                "the run stopped at step {} (t = {:e} s): the series column `{}` is {}, not a number series.csv can hold; {hint}",
+                self.clock.step, self.clock.time, self.series.columns[c], row[c],
+            )));
+        }
         self.series.rows.push(row);
+        Ok(())
     }
 }
 

@@ -97,8 +97,20 @@ pub fn check(scene: &Scene, key: &str, value: f64, range: Range, unit: &str) -> 
         };
         Err(scene.key_error(
             key,
-            format!("= {value} is outside the allowed range {range}{unit}"),
+            format!(
+                "= {} is outside the allowed range {range}{unit}",
+                number(value)
+            ),
         ))
+    }
+}
+
+/// `v` as a reader would write it: 1e308, not 309 digits.
+fn number(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e16).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        v.to_string()
     }
 }
 

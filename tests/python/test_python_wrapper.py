@@ -134,6 +134,23 @@ def test_failures_raise_with_the_status_and_a_sentence():
     assert "100000" in e.value.message and "cores" in e.value.message
 
 
+def test_step_counts_must_be_whole_and_not_negative():
+    # int() made advance(-1) 2^64 - 1 steps (a run to the scene's end) and advance(1.5) one.
+    scene = os.path.join(ROOT, "scenes", "beam2d_moduli.toml")
+    with fractum.Simulation(scene, overrides=["sample.cells=[8, 12]"]) as sim:
+        for call in (sim.advance, sim.set_call_limits):
+            for bad in (-1, -(2**63), 2**64):
+                with pytest.raises(ValueError, match="outside the allowed range"):
+                    call(bad)
+            for bad in (1.5, 2.0, "3", None, True):
+                with pytest.raises(TypeError, match="whole number"):
+                    call(bad)
+        assert sim.steps() == 0
+        sim.advance(np.int64(2))
+        sim.advance(1)
+        assert sim.steps() == 3
+
+
 # The reduced sizes of tests/golden_summaries.rs.
 OTHER_MODELS = [
     ("dlsm_tensile.toml", ["sample.elements=300"], "dlsm", 300),

@@ -26,6 +26,7 @@ Every failure raises FractumError with the library's status and its one-sentence
 
 import ctypes
 import json
+import operator
 import os
 
 import numpy as np
@@ -158,6 +159,21 @@ def _strings(items):
     return (ctypes.c_char_p * max(len(items), 1))(*items), len(items)
 
 
+def _count(name, value):
+    """`value` as a count for a uint64_t argument. int() turned -1 into 2^64 - 1 steps (ctypes
+    wraps it) and 1.5 into 1; a count must be a whole number (int or numpy integer) in
+    [0, 2^64 - 1]."""
+    if isinstance(value, bool):
+        raise TypeError(f"{name} must be a whole number of steps, not {value!r}")
+    try:
+        n = operator.index(value)
+    except TypeError:
+        raise TypeError(f"{name} must be a whole number of steps, not {value!r}") from None
+    if not 0 <= n < 2**64:
+        raise ValueError(f"{name} = {n} is outside the allowed range [0, 2^64 - 1]")
+    return n
+
+
 class Simulation:
     """One simulation inside libfractum. Use it as a context manager, or call close()."""
 
@@ -222,7 +238,7 @@ class Simulation:
 
     def advance(self, steps):
         """Takes up to `steps` steps of the run's own time step, never past the scene's end."""
-        self._call("fractum_advance", int(steps))
+        self._call("fractum_advance", _count("steps", steps))
 
     def advance_to(self, time):
         """Advances to exactly `time` (s). beam2d with Gear5 takes whole steps only and
@@ -232,7 +248,7 @@ class Simulation:
     def set_call_limits(self, max_steps=0, max_seconds=0.0):
         """Bounds each later advance call: it raises Interrupted, before a step, once it has
         taken `max_steps` steps or run `max_seconds` of wall time (0: no bound)."""
-        self._call("fractum_set_call_limits", int(max_steps), float(max_seconds))
+        self._call("fractum_set_call_limits", _count("max_steps", max_steps), float(max_seconds))
 
     def cancel(self):
         """Stops the advance call in progress in another thread (or else the next one) before

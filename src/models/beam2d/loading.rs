@@ -432,9 +432,15 @@ fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Resu
         })
         .expect("a sample has polygons");
     if sample.outline[k0] != 0 {
+        // Discs are held to a size that cannot get here (scene validation); a rectangle of
+        // fewer than 12 squares each way can.
+        let (key, size) = match (&cfg.sample.cells, cfg.sample.diameter) {
+            (Some(c), _) if sample.info.outline != "disc" => ("sample.cells", format!("{c:?}")),
+            (_, d) => ("sample.diameter", format!("{}", d.unwrap_or(0.0))),
+        };
         return Err(scene.key_error(
-            "sample",
-            "is too small for an explosion: its centre polygon lies on the outline",
+            key,
+            format!("= {size} is too small for an explosion: the centre polygon lies on the outline; 12 lattice spacings each way always leave it inside"),
         ));
     }
     // Neighbours, the shared side's length and its normal out of the explosive.

@@ -11,6 +11,7 @@ use super::scene::GranularScene;
 use crate::contact::restitution::damping_for_restitution;
 use crate::error::{Error, Result};
 use crate::probe::{BOX_COLUMNS, FREE_COLUMNS};
+use crate::run::Model;
 use crate::scene::{EffectKind, Scene};
 use crate::state::{Bodies, BoxFace, Vec3, Walls};
 
@@ -529,6 +530,17 @@ pub fn export(
     dir: &std::path::Path,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<String> {
+    // Checked first: another model's scene would otherwise be read as a granular one and
+    // refused for keys it rightly has.
+    if scene.model.kind != super::Granular::KIND {
+        return Err(scene.key_error(
+            "model.kind",
+            format!(
+                "= \"{}\": `fractum export` writes granular scenes only (model.kind = \"granular\")",
+                scene.model.kind
+            ),
+        ));
+    }
     if plugin && !lammps {
         return Err(Error::input(
             &scene.source.label,
