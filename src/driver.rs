@@ -52,7 +52,14 @@ pub fn run_to_end(
         if let Some(every) = options.checkpoint_every {
             next = next.min(next_multiple(step, every));
         }
-        run.advance(next - step)?;
+        if let Err(e) = run.advance(next - step) {
+            // A run that fails while stepping says so in its folder: the series up to the
+            // failure and a summary marked incomplete, so that nobody takes the folder for a
+            // finished run or for one still in progress. Writing them must not hide the error.
+            let _ = out.write_series(run);
+            let _ = out.write_failure(run, &e, started.elapsed().as_secs_f64());
+            return Err(e);
+        }
         let mut wrote = false;
         if vtk > 0 && (run.step() % vtk == 0 || run.finished()) {
             out.write_snapshot(run)?;

@@ -233,6 +233,20 @@ fn a_run_that_turns_infinite_stops_at_once_with_a_sentence() {
         err.contains("at step 1 ") && err.contains("non-finite position or velocity"),
         "{err}"
     );
+    // The folder says the run failed: a summary marked incomplete, with the same sentence and
+    // where it stopped, beside the series written up to the failure.
+    let summary: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["complete"], false, "{summary}");
+    let failure = summary["failure"].as_str().unwrap();
+    assert!(
+        failure.contains("non-finite position or velocity"),
+        "{failure}"
+    );
+    assert!(err.contains(failure), "{err} / {failure}");
+    assert_eq!(summary["steps"], 1, "{summary}");
+    assert_eq!(summary["model"], "granular");
+    assert!(out.join("series.csv").exists());
 }
 
 /// Runs `scene` with `--set` overrides and returns the refusal line (exit code 2, one line,

@@ -106,6 +106,26 @@ impl OutputDir {
         write_atomic(&self.file("summary.json"), text.as_bytes())
     }
 
+    /// summary.json of a run that failed while stepping: what the run is, where it stopped,
+    /// `"complete": false` and the failure's sentence, and `wall_seconds` last. The model's own
+    /// summary is not asked for: its state may hold the non-finite values that stopped it.
+    pub fn write_failure(&self, run: &dyn Run, error: &Error, wall_seconds: f64) -> Result<()> {
+        let scene = run.scene();
+        let summary = serde_json::json!({
+            "name": scene.name,
+            "model": run.model(),
+            "seed": scene.seed,
+            "complete": false,
+            "failure": error.to_string(),
+            "steps": run.step(),
+            "time": run.time(),
+            "wall_seconds": wall_seconds,
+        });
+        let mut text = serde_json::to_string_pretty(&summary).expect("summary serialises");
+        text.push('\n');
+        write_atomic(&self.file("summary.json"), text.as_bytes())
+    }
+
     /// A VTK snapshot of the run (one .vtu per stem: particles, walls, ...) and, per stem, the
     /// .pvd index of every snapshot so far, for ParaView.
     pub fn write_snapshot(&mut self, run: &dyn Run) -> Result<()> {

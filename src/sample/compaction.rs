@@ -198,12 +198,7 @@ impl Compactor {
                 let wall = walls.face_mut(*hi);
                 wall.velocity = wall.normal * speed;
             }
-            self.vv.kick_drift(bodies, &self.forces, dt);
-            walls.advance(dt);
-            self.forces.clear();
-            walls.clear_forces();
-            self.contact
-                .accumulate(&ctx, bodies, walls, &mut self.forces);
+            self.drift_and_forces(bodies, walls, &ctx);
             let check = k % CHECK_EVERY == 0;
             if check {
                 report = self.measure(bodies, walls);
@@ -230,6 +225,18 @@ impl Compactor {
             }
         }
         Ok(report)
+    }
+
+    /// The first half of a velocity Verlet step: half kick, drift, the walls moved, and the
+    /// contact forces at the new positions (the second half kick is the caller's, after any
+    /// damping).
+    fn drift_and_forces(&mut self, bodies: &mut Bodies, walls: &mut Walls, ctx: &StepContext) {
+        self.vv.kick_drift(bodies, &self.forces, ctx.dt);
+        walls.advance(ctx.dt);
+        self.forces.clear();
+        walls.clear_forces();
+        self.contact
+            .accumulate(ctx, bodies, walls, &mut self.forces);
     }
 
     /// Mean stress per axis and the unbalanced force ratio: mean net force on a body over the
@@ -404,11 +411,7 @@ pub fn compact_to_fraction(
             let wall = walls.face_mut(*hi);
             wall.velocity = wall.normal * speed;
         }
-        c.vv.kick_drift(bodies, &c.forces, dt);
-        walls.advance(dt);
-        c.forces.clear();
-        walls.clear_forces();
-        c.contact.accumulate(&ctx, bodies, walls, &mut c.forces);
+        c.drift_and_forces(bodies, walls, &ctx);
         local_damping(&mut c.forces, bodies);
         c.vv.kick(bodies, &c.forces, dt);
         for (v, w) in bodies.vel.iter_mut().zip(bodies.omega.iter_mut()) {
