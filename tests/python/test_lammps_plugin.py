@@ -289,10 +289,11 @@ def test_crush_grain_matches_fractum_to_the_first_split(tmp_path):
     assert axes == [first["axis"]]
 
 
-def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel=True):
+def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel=True,
+              read_ranks=None):
     """The small loaded packing with friction, fracture, Weibull and cohesion for `steps`
     steps on `ranks` ranks (through a restart file written at `restart_at` and read by a
-    second LAMMPS run when given; with the step adapted to `adapt_omega_dt` instead of the
+    second LAMMPS run when given, on `read_ranks` ranks when given; with the step adapted to `adapt_omega_dt` instead of the
     export's target when given; without the travels, so without the separated pairs' skip,
     when `travel` is false); the final atoms (the travel last, when declared), and what the
     fracture fix reports (splits, the split audit, atoms, times the step was shortened and the
@@ -320,7 +321,8 @@ def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel
                 and "read_data" not in l]
         script = "\n".join(keep[:2] + ["read_restart state.restart", "newton off",
                                        "comm_modify vel yes"] + keep[2:]) + "\n"
-        p = lammps(folder, script + f"run {steps - restart_at}\n" + report + "\n", ranks)
+        p = lammps(folder, script + f"run {steps - restart_at}\n" + report + "\n",
+                   read_ranks or ranks)
     return read_dump(os.path.join(folder, "final.dump")), printed(p.stdout, "FRACTURE")
 
 
@@ -390,6 +392,29 @@ def test_restart_continues_as_the_uninterrupted_run(tmp_path):
     err = np.abs(straight[:, 3:9] - resumed[:, 3:9]).max()
     print(f"resumed against uninterrupted: largest position/velocity difference {err:.3g}")
     assert err == 0.0
+
+
+def test_three_and_four_ranks_agree_with_one_and_a_restart_changes_rank_count(tmp_path):
+    """The small sample with splits on 1, 3 and 4 ranks (more ranks than cores: correctness,
+    not speed), and a restart written on 2 ranks read on 1 and on 4: the same atoms, tags and
+    split report, positions and velocities as the uninterrupted 1-rank run (1 against 2 is
+    test_one_and_two_ranks_agree_and_splits_conserve)."""
+    folder = str(tmp_path)
+    export_small(folder)
+    one, report_one = split_run(folder, 1, 2000)
+    assert report_one[0] >= 5
+    runs = {f"{n} ranks": split_run(folder, n, 2000) for n in (3, 4)}
+    for n in (1, 4):
+        runs[f"written on 2, read on {n}"] = split_run(folder, 2, 2000, restart_at=1000,
+                                                       read_ranks=n)
+    box = 3e-3
+    for how, (other, report) in runs.items():
+        assert report == report_one, how
+        assert other.shape == one.shape, how
+        assert np.array_equal(one[:, [0, 1, 2, 9]], other[:, [0, 1, 2, 9]]), how
+        err = np.abs(one[:, 3:9] - other[:, 3:9]).max()
+        print(f"{how} against 1 rank: largest position/velocity difference {err:.3g}")
+        assert np.abs(one[:, 3:6] - other[:, 3:6]).max() / box <= 1e-10, how
 
 
 def export_fast_crush(folder):
