@@ -427,7 +427,7 @@ fn main() {
                 );
             }
             "platens" => {
-                // Issue 19: the disc between rigid flat platens and curved jaws of radius
+                // the disc between rigid flat platens and curved jaws of radius
                 // 1.5 R, and under a uniform pressure over 20° arcs, at 3000 cells and at the
                 // paper's size. The jaws go further (their contact softens the start).
                 let loadings: [(&str, &[&str]); 3] = [

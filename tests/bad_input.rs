@@ -346,7 +346,7 @@ fn unknown_model() {
 #[test]
 fn a_name_that_is_not_a_plain_file_name_is_refused() {
     // Without --out the name becomes out/NAME: "../../x" or an absolute name wrote outside
-    // out/, and a NUL byte failed late with exit 1 (issue 16, item 8).
+    // out/, and a NUL byte failed late with exit 1.
     for bad in ["../../x", "/tmp/x", "a/b", ".hidden", "a\\u0000b", "a b"] {
         let t = replace(
             &base(),
@@ -359,8 +359,7 @@ fn a_name_that_is_not_a_plain_file_name_is_refused() {
 
 #[test]
 fn more_threads_than_cores_is_refused() {
-    // `--threads 100000` made rayon start them and the run hang with no message (issue 16,
-    // item 7).
+    // `--threads 100000` made rayon start them and the run hang with no message.
     let (line, _) = refused(&base(), &["--threads", "100000"]);
     assert!(
         line.contains("--threads") && line.contains("100000") && line.contains("cores"),
@@ -371,7 +370,7 @@ fn more_threads_than_cores_is_refused() {
 #[test]
 fn a_run_of_more_steps_than_the_limit_is_refused() {
     // A step of 1e-300 s, or a Young's modulus of 1e308 Pa under the automatic step, planned
-    // 18446744073709551615 steps and ran forever (issue 16, item 4).
+    // 18446744073709551615 steps and ran forever.
     // 80 spheres: a sample that builds (the check needs the sample's step).
     let t = common::small_oedometer(80, "\"contact\"", 0.001);
     for set in ["time.dt=1e-300", "material.young=1e308"] {
@@ -386,7 +385,7 @@ fn a_run_of_more_steps_than_the_limit_is_refused() {
 #[test]
 fn sizes_beyond_the_body_limit_are_refused_before_allocating() {
     // 10^9 spheres allocated until the process aborted (exit 134, 4 GB); hcp layers of 10^7
-    // each panicked on capacity overflow; 10^9 dlsm elements likewise (issue 16, items 1, 2).
+    // each panicked on capacity overflow; 10^9 dlsm elements likewise.
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     for (scene, set, key) in [
@@ -427,7 +426,7 @@ fn sizes_beyond_the_body_limit_are_refused_before_allocating() {
     }
 }
 
-/// Issue 16 items 9 and 10: a checkpoint carries a format version and a checksum; damaged
+/// a checkpoint carries a format version and a checksum; damaged
 /// copies (single bit flips spread over the file, truncations) are refused by `resume` with one
 /// sentence naming the file, exit code 2 and no output folder, never resumed, never a panic.
 #[test]

@@ -59,7 +59,7 @@ fn apparent_young_and_poisson_match_the_input_for_seven_poisson_ratios() {
 
 #[test]
 fn table_3_ends_keep_the_lattice_bias_measured_at_full_size() {
-    // Issue 19: at nu = 0.49, -0.8 and -0.95 the apparent E misses the 2% of the input, as
+    // at nu = 0.49, -0.8 and -0.95 the apparent E misses the 2% of the input, as
     // measured at the paper's 11,000 cells and the shipped step (docs/validation.md, Table 3):
     // -2.55%, -3.6%, -21.6% (the paper: +4.9%, +1.3%, +6.3%), causes stated there (a lattice
     // bias at 0.49; towards -1 the flutter modes that phi damps, so -0.8 and -0.95 also move
@@ -199,7 +199,7 @@ fn brazilian_test_with_a_20_degree_arc() {
 
 #[test]
 fn brazilian_test_between_flat_platens_reaches_eq_46() {
-    // Issue 19: the disc pressed by two rigid flat platens (frictional contacts, force read on
+    // the disc pressed by two rigid flat platens (frictional contacts, force read on
     // the platens) instead of driven elements. Eq. 46: P = pi/2 sigma_f D t = 62.83 kN (the
     // paper prints 64.2 kN for the same values). Driven elements reached 0.56 of it at 3000
     // cells (and 0.054 at 20,087).
@@ -248,7 +248,7 @@ fn platens_need_no_element_on_the_unused_loading_arcs() {
 
 #[test]
 fn brazilian_test_between_curved_jaws() {
-    // Issue 19: jaws of radius 1.5 R (the ISRM's) pressed as the flat platens. Theory: the ISRM
+    // jaws of radius 1.5 R (the ISRM's) pressed as the flat platens. Theory: the ISRM
     // reads jaws with Eq. 46 (62.83 kN); their contact arc at the peak gives Eq. 48 too. The
     // issue sets no tolerance for the jaws: the flat platens' 5% of Eq. 46 is asserted, and
     // the arc against the ISRM's 10-15 degrees at failure. Measured: 0.984 of Eq. 46, arc 11.0
@@ -277,7 +277,7 @@ fn brazilian_test_between_curved_jaws() {
 
 #[test]
 fn brazilian_test_under_a_uniform_20_degree_arc_pressure() {
-    // Issue 19: Eq. 47's loading itself, a uniform radial pressure over 2 alpha = 20 degrees,
+    // Eq. 47's loading itself, a uniform radial pressure over 2 alpha = 20 degrees,
     // set by a servo on the arcs' closure, the disc's free motions held. Eq. 48: 65.43 kN,
     // within 3%: measured 1.0024. The first broken contact within 0.15 D of the centre: not
     // met at 3000 cells. One contact just outside the arc's edge (15 degrees from the

@@ -311,7 +311,7 @@ fn breaking_a_spring_injects_no_energy() {
 }
 
 /// `fractum explain` on the main job names fracture, its criteria and constants, Weibull and
-/// cohesion, and the step adaptation (issue 16, item 8: it mentioned none of them); without
+/// cohesion, and the step adaptation (it mentioned none of them); without
 /// cohesion and Weibull it says so.
 #[test]
 fn explain_names_fracture_weibull_cohesion_and_the_step_rule() {

@@ -48,7 +48,7 @@ fn oedometer_on_a_jammed_packing() {
         }
     }
     // For scale, peer codes on periodic ~1000-sphere packings of this material at 100 kPa
-    // (../shared/reference/): LAMMPS 0.83 GPa secant, 0.87 GPa tangent at 0.5%, K0 0.34;
+    // (the reference runs of LAMMPS and YADE quoted in docs/validation.md): LAMMPS 0.83 GPa secant, 0.87 GPa tangent at 0.5%, K0 0.34;
     // YADE 0.84 GPa secant, K0 0.47. Here the box has walls, whose loose boundary layer makes
     // the sample softer; the same-packing comparison is the LAMMPS/YADE cross-check.
     let secant = get("constrained_modulus_secant");

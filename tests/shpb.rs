@@ -173,7 +173,7 @@ fn an_impact_breaks_no_grain_at_its_first_steps_whatever_the_step() {
     }
 }
 
-/// Issue 18's simple-cubic question, part 1: an intact simple cubic column is the stiffest
+/// The simple-cubic question, part 1: an intact simple cubic column is the stiffest
 /// packing there is. Each of its N spheres (radius R) sits on one below; under an axial strain
 /// ε the N − 1 sphere–sphere Hertz contacts (R_eff = R/2) and the two sphere–wall contacts
 /// (R_eff = R, the walls of the grains' E*) carry the same force F, so a sphere–wall overlap is
@@ -223,7 +223,7 @@ fn an_intact_simple_cubic_column_follows_hertz_in_series() {
     }
 }
 
-/// Issue 18's simple-cubic question, part 2 (Fig. 35, Section 5.2.1): with the paper's strength
+/// The simple-cubic question, part 2 (Fig. 35, Section 5.2.1): with the paper's strength
 /// model (Weibull on the contact strength only) the simple cubic sample is stiff at first, all
 /// its grains in load-bearing columns, and soft once they break; stiffer than the random
 /// polydisperse sand at 0.05 strain and softer at 0.3. With Weibull on σc too, w = 1 gives some

@@ -187,7 +187,7 @@ fn frequency_bound_is_never_below_the_computed_highest_frequency() {
 
 /// A step so long that the first drift sends the grains to infinity (the issue's command on a
 /// reduced main job): the neighbour grid searched for ever for a cell size on the infinite
-/// extent (issue 16, item 5). Now the step ends and the run stops at once, exit 1, with the
+/// extent. Now the step ends and the run stops at once, exit 1, with the
 /// sentence that names the body; the state is checked after every step, not only at output
 /// steps (item 11). Run as a process with a deadline, so a regression fails instead of hanging.
 #[test]
@@ -260,7 +260,7 @@ fn refused(scene: &str, sets: &[String]) -> String {
     stderr
 }
 
-/// Issue 16 item 12: dlsm at time.safety 0.5-1.0 ran to the end with exit 0 while its kinetic
+/// dlsm at time.safety 0.5-1.0 ran to the end with exit 0 while its kinetic
 /// energy reached 1e9-2e13 J. The step is now checked at build against the lattice's own
 /// highest frequency (power iteration, Tchamwa-Wielgosz limit ω dt < √(2/φ)): a step
 /// 1.5x its stability limit is refused with a sentence that names the key and the limit,
@@ -309,7 +309,7 @@ fn dlsm_steps_past_the_lattice_limit_are_refused_and_below_it_run_right() {
         ke.iter().cloned().fold(0.0, f64::max)
     );
     // Table 3's end ν = -0.99 diverged at step 40 at the shipped step (Eq. 39 with E), then
-    // was refused by the check above; with Eq. 39 on M = λ + 2μ (67 E there, issue 19) the
+    // was refused by the check above; with Eq. 39 on M = λ + 2μ (67 E there) the
     // shipped safety gives a step 8 times shorter, under the lattice's limit, and the run ends
     // with finite results (its modulus is another matter: docs/validation.md, Table 3).
     let (_, s, series) =
@@ -322,7 +322,7 @@ fn dlsm_steps_past_the_lattice_limit_are_refused_and_below_it_run_right() {
     );
 }
 
-/// Issue 16 item 12: beam2d at 3x its estimated limit ended with exit 0 after its kinetic
+/// beam2d at 3x its estimated limit ended with exit 0 after its kinetic
 /// energy grew from 500 J to 1.4 MJ. The limit is a bound (Gershgorin), so a step above it is
 /// refused; at 0.9x the explosion's kinetic energy never rises above what it started with.
 #[test]
@@ -349,7 +349,7 @@ fn beam2d_steps_past_the_bound_are_refused_and_below_it_keep_the_energy() {
     );
 }
 
-/// Issue 16 item 5 (the FMU's 1e4 m/s): faces driven far faster than the grains can follow
+/// Faces (the FMU's 1e4 m/s): driven far faster than the grains can follow
 /// packed them beyond full density (solid fraction 3.4 at the end, stresses of 1e11 Pa, exit
 /// 0; through the FMU, fmi2DoStep never returned). The run now stops the step the grains fill
 /// more than the box, with a sentence, exit code 1.
@@ -385,7 +385,7 @@ fn faces_driven_beyond_full_density_stop_the_run() {
     assert!(strain > 0.54 && strain < 0.9, "{stderr}");
 }
 
-/// The stability suite of issue 16 (Deliver 7), at reduced size.
+/// The stability suite, at reduced size.
 mod suite {
     use super::common;
 
@@ -395,7 +395,7 @@ mod suite {
         e.iter().cloned().fold(f64::MIN, f64::max) / e[0]
     }
 
-    /// dlsm at Table 3's hard ends, ν = 0.49, −0.8 and −0.95 (issue 19's three), released
+    /// dlsm at Table 3's hard ends, ν = 0.49, −0.8 and −0.95 (the three), released
     /// from static tension: 20,000 steps at the shipped step (φ = 2), no NaN, and the total
     /// energy never above its start (no work is put in).
     #[test]
@@ -487,7 +487,7 @@ mod suite {
     }
 }
 
-/// Issue 16 Deliver 7 for granular: two spheres meeting at 2 m/s, the step a fraction of the
+/// The stability suite for granular: two spheres meeting at 2 m/s, the step a fraction of the
 /// critical step `2/ω` of the Hertz contact at its largest overlap (theory: δ_max =
 /// (15 m* v² / (16 E* √R*))^(2/5), ω² = 2 E* √(R* δ_max) / m*). At 1.5x the guard stops the
 /// run at the first step in contact; at 0.9x the run goes through, warned (ω dt above 1.6),

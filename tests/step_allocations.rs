@@ -1,4 +1,4 @@
-//! The granular step allocates nothing on one thread (issue 15: "no allocation in the step
+//! The granular step allocates nothing on one thread ("no allocation in the step
 //! loop"): a counting global allocator around 1000 steps of a breaking-grain SHPB sample that
 //! is quiet enough (a strain rate of 1/s, no output rows) for no neighbour-list rebuild, split
 //! or series row to happen in the window, which are the events that may allocate. The only

@@ -447,7 +447,7 @@ pub extern "C" fn fmi2ExitInitializationMode(c: fmi2Component) -> fmi2Status {
     with_instance(c, "fmi2ExitInitializationMode", |i| {
         i.expect(&[Phase::Initialization], "fmi2ExitInitializationMode")?;
         // The build takes seconds: its start and end are logged whatever the debug logging
-        // setting, so that a master's user sees why the call takes long (issue 17).
+        // setting, so that a master's user sees why the call takes long.
         i.log(
             fmi2Status_fmi2OK,
             "logBuild",

@@ -220,7 +220,7 @@ mod tests {
     use super::*;
 
     /// Non-finite demands (a run blowing up) give NaN forces at once; the SVD fallback used to
-    /// iterate for ever on them (issue 16, item 6). Collinear points (no Cholesky) with a
+    /// iterate for ever on them. Collinear points (no Cholesky) with a
     /// finite demand still give the resultant.
     #[test]
     fn initial_forces_never_loop_on_non_finite_input() {

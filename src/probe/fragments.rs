@@ -168,7 +168,7 @@ pub fn fit_power_law(bins: &[MassBin], lo: f64, hi: f64) -> Option<PowerLawFit> 
     })
 }
 
-/// The fit of issue 20's pre-stated rule (docs/validation.md, "How β is fitted"): from the
+/// The fit of the pre-stated rule (docs/validation.md, "How β is fitted"): from the
 /// first bin whose centre is at least `lo` (kg) up to, not including, the first bin after it
 /// holding fewer than `min_per_run × runs` fragments; none with fewer than three bins.
 pub fn fit_power_law_counted(

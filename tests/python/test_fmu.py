@@ -125,7 +125,7 @@ def test_get_set_and_serialized_states_replay_bit_for_bit(unzipped):
 
 
 def test_damaged_serialized_states_are_refused(unzipped):
-    # Issue 16 item 9: a serialized state carries a format version and a checksum.
+    # a serialized state carries a format version and a checksum.
     fmu = slave(unzipped, "damaged")
     t = run(fmu, 0.0, 2e-6, 2)
     state = fmu.getFMUState()
@@ -149,7 +149,7 @@ def test_damaged_serialized_states_are_refused(unzipped):
 
 
 def test_faces_far_too_fast_end_the_step_with_an_error(unzipped):
-    # Issue 16 item 5: at v_incident = 1e4 m/s fmi2DoStep never returned. Now the grains
+    # at v_incident = 1e4 m/s fmi2DoStep never returned. Now the grains
     # packed beyond full density stop the run: fmi2Error, with the sentence logged.
     fmu = slave(unzipped, "too_fast", v_incident=1e4)
     with pytest.raises(Exception) as e:
@@ -479,7 +479,7 @@ def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzippe
 
 
 def test_model_structure_states_no_feedthrough_and_it_holds(unzipped):
-    # Issue 17, problem 2 / Deliver 2: without `dependencies` every output depends on every input (FMI 2.0),
+    # without `dependencies` every output depends on every input (FMI 2.0),
     # and OMSimulator set up an algebraic-loop solver. Outputs are computed at the end of a
     # communication step: inputs set after it must change none of them, bit for bit.
     md = read_model_description(FMU)
@@ -506,7 +506,7 @@ def test_model_structure_states_no_feedthrough_and_it_holds(unzipped):
 
 
 def test_units_display_units_and_provenance_are_declared():
-    # Issue 17, problem 9.
+    # A master's user sees units, display units and who made the FMU.
     md = read_model_description(FMU)
     v = {x.name: x for x in md.modelVariables}
     assert v["strain"].unit == "1"
@@ -542,7 +542,7 @@ fmu.freeInstance()
 
 
 def test_a_failed_initialisation_is_one_error_and_terminate_is_accepted():
-    # Issue 17, problem 7 / Deliver 4: after a failed initialisation OMSimulator calls fmi2Terminate, which
+    # after a failed initialisation OMSimulator calls fmi2Terminate, which
     # was refused: nine errors for one cause.
     p = subprocess.run(
         [sys.executable, "-c", FAILED_INIT, FMU, "no_such_scene.toml"],
@@ -567,7 +567,7 @@ def test_a_failed_initialisation_is_one_error_and_terminate_is_accepted():
 
 
 def test_the_default_experiment_compacts_the_specimen():
-    # Issue 17, problem 3 / Deliver 3: with inputs starting at 0, `fmpy simulate Fractum.fmu`
+    # with inputs starting at 0, `fmpy simulate Fractum.fmu`
     # drew a flat line. Now v_incident starts at 3 m/s: 500/s on the 6 mm specimen, so over
     # the default 1e-4 s the strain reaches 3 m/s * 1e-4 s / 6 mm = 0.05.
     md = read_model_description(FMU)
@@ -585,7 +585,7 @@ def test_the_default_experiment_compacts_the_specimen():
 
 
 def test_the_fracture_parameter_builds_the_same_specimen_with_unbreakable_grains(unzipped):
-    # Issue 17 Deliver 5: the shipped scene with and without grain breakage.
+    # the shipped scene with and without grain breakage.
     md = read_model_description(FMU)
     fracture = next(v for v in md.modelVariables if v.name == "fracture")
     assert (fracture.type, fracture.causality, fracture.start) == ("Boolean", "parameter", "true")
@@ -651,7 +651,7 @@ GetIntegerStatus GetBooleanStatus GetStringStatus""".split()
 
 
 def test_the_binary_is_portable_stripped_and_exports_the_fmi2_functions(unzipped):
-    # Issue 17, problem 1/4 and Deliver 1: the binary needed glibc 2.35 (no RHEL 9, Ubuntu
+    # The binary needed glibc 2.35 (no RHEL 9, Ubuntu
     # 20.04, Debian 11), carried 36 MB of debug information and exported 154 other symbols.
     so = os.path.join(unzipped, "binaries", "linux64", "fractum_shpb.so")
     dyn = subprocess.run(["objdump", "-T", so], capture_output=True, text=True, check=True).stdout
@@ -693,7 +693,7 @@ print("ROWS " + json.dumps(rows))
 
 
 def test_libcosim_gives_the_outputs_of_fmpy(unzipped):
-    # Issue 17 Deliver 6, first part: a second master (DNV's libcosim through libcosimpy) with
+    # a second master (DNV's libcosim through libcosimpy) with
     # the same velocity ramp, set at each communication point, gives the outputs fmpy gives.
     h, n = 5e-6, 20
     p = subprocess.run(  # libcosim aborts its process on an FMU error: a subprocess
@@ -769,7 +769,7 @@ print("ROWS " + json.dumps(rows))
 
 
 def test_a_coupled_shpb_of_three_fmus_runs_alike_in_libcosim_and_an_fmpy_master(unzipped, bar_fmu):
-    # Issue 17 Deliver 6, second part: Fractum between two bar FMUs (bar.c), the incident bar
+    # Fractum between two bar FMUs (bar.c), the incident bar
     # struck at 10 m/s, in libcosim and in a Jacobi master written here with fmpy (outputs at
     # t_k to inputs, then every FMU steps from t_k), 20 steps of 1 us.
     h, n = 1e-6, 20

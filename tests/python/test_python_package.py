@@ -1,5 +1,5 @@
 """`pip install ./ffi/python` in a fresh virtual environment: `import fractum` works with no
-FRACTUM_LIB and away from the repository (issue 17 Deliver 7; YADE's Python: test_yade.py)."""
+FRACTUM_LIB and away from the repository (YADE's Python: test_yade.py)."""
 import os
 import subprocess
 import sys

@@ -54,7 +54,7 @@ def test_saved_state_replays_bit_for_bit_and_reset_returns_to_the_start():
 
 
 def test_damaged_state_blobs_are_refused_and_leave_the_run_as_it_was():
-    # Issue 16 item 9: blobs carry a format version and a checksum (src/output/sealed.rs).
+    # blobs carry a format version and a checksum (src/output/sealed.rs).
     with fractum.Simulation(SCENE, overrides=QUIET) as sim:
         sim.set_face_speeds(3.0, 0.0)
         sim.advance_to(1e-6)
@@ -79,7 +79,7 @@ def test_damaged_state_blobs_are_refused_and_leave_the_run_as_it_was():
 
 
 def test_advance_calls_can_be_bounded_and_cancelled():
-    # Issue 16 item 13: with still faces advance_to(1e9) ran indefinitely.
+    # with still faces advance_to(1e9) ran indefinitely.
     import threading
     import time as clock
 

@@ -9,7 +9,7 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 
 
 def test_installed_package_runs_inside_yade(tmp_path):
-    # Issue 17 Deliver 7: `pip install ./ffi/python` bundles libfractum.so; YADE's Python
+    # `pip install ./ffi/python` bundles libfractum.so; YADE's Python
     # imports it from where it was installed, with no FRACTUM_LIB (YADE's python3 is Debian's,
     # which refuses pip into itself: --target and PYTHONPATH; numpy comes with yade).
     yade = shutil.which("yade")

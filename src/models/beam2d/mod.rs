@@ -475,7 +475,7 @@ impl Model for Beam2d {
         });
         // The limit is a bound (Gershgorin: ω² ≤ 2 Σk/m), so every step up to it is stable;
         // above it stability is not assured and was seen to fail (explosion_disc at 1.9x:
-        // kinetic energy 10x its initial value). Refused rather than warned (issue 16).
+        // kinetic energy 10x its initial value). Refused rather than warned.
         if dt > dt_critical {
             let key = match scene.time.dt {
                 DtSpec::Auto => "time.safety",

@@ -254,7 +254,7 @@ impl Dlsm {
     /// Eq. 39 bounds one spring at a time with E; the lattice's own highest frequency (each
     /// element held by all its springs, stiffness from λ + 2μ and μ) lies above 1/dt_limit, by
     /// a factor that grows towards ν = 0.5 and ν = -1: computed here on the undeformed
-    /// lattice, it refuses the step instead of letting the run blow up (issue 16).
+    /// lattice, it refuses the step instead of letting the run blow up.
     fn check_step(&self, scene: &Scene, dt: f64) -> Result<()> {
         let mut undeformed = self.state.bodies.clone();
         undeformed.pos.clone_from(&self.reference);
@@ -543,7 +543,7 @@ impl Model for Dlsm {
         // Free vibration and the drop put no work in after the start: their total energy can
         // only fall (the scheme and the ground dissipate). The strain energy is an estimate
         // (exact for uniform strain), hence the margin; growth past it is a growing mode,
-        // which ran to 1e13 J before the run noticed anything (issue 16).
+        // which ran to 1e13 J before the run noticed anything.
         if let Some(k) = series.index("total_energy")
             && let (Some(first), Some(last)) = (series.rows.first(), series.rows.last())
             && last[k] > ENERGY_GROWTH_LIMIT * first[k]

@@ -722,7 +722,7 @@ impl Model for Granular {
     /// oedometer) the grains' volume over the box's exceeds 1, so they overlap by more than all
     /// the pore space and Hertz contacts (a small-overlap law) describe nothing; left alone, a
     /// face driven at 1e4 m/s crossed the specimen with every grain touching every other and
-    /// the neighbour search slowed to a crawl (issue 16). The grains' volume changes only when
+    /// the neighbour search slowed to a crawl. The grains' volume changes only when
     /// one splits, so it is cached by body count.
     fn fault(&self, _clock: &Clock) -> Option<String> {
         let st = &self.state;
