@@ -179,6 +179,11 @@ pub fn build(
     })
 }
 
+/// The volume (m³) of an ellipsoid of semi-axes a, b, c.
+fn volume(g: &[f64; 3]) -> f64 {
+    4.0 / 3.0 * std::f64::consts::PI * g[0] * g[1] * g[2]
+}
+
 /// An ellipsoid of semi-axes a, b, c as a poly-ellipsoid with equal halves.
 fn ellipsoid(semi: [f64; 3]) -> std::result::Result<PolyEllipsoid, String> {
     PolyEllipsoid::new([semi[0], semi[0], semi[1], semi[1], semi[2], semi[2]])
@@ -231,12 +236,11 @@ fn compacted_sample(
     let s = &cfg.sample;
     let size = Vec3::from(s.box_size.expect("validated"));
     let box_volume = size.x * size.y * size.z;
-    let mut rng = stream(scene.seed, STREAM_RADII);
     // Each grain as semi-axes (a, b, c); spheres have a = b = c.
     let grains: Vec<[f64; 3]> = if s.shape == Some(GrainShape::Ellipsoid) {
+        let mut rng = stream(scene.seed, STREAM_RADII);
         let file = s.grain_file.as_deref().expect("validated");
         let pool = read_grains(scene, "sample.grain_file", file)?;
-        let volume = |g: &[f64; 3]| 4.0 / 3.0 * std::f64::consts::PI * g[0] * g[1] * g[2];
         let mean = pool.iter().map(|g| volume(&g.semi)).sum::<f64>() / pool.len() as f64;
         if let (None, Some(phi)) = (s.count, s.solid_fraction) {
             check_bodies(
@@ -262,20 +266,10 @@ fn compacted_sample(
             out.push(g);
         }
     } else {
-        let (mean, sd, min, max) = radius_bounds(cfg);
-        let radii = match (s.count, s.solid_fraction) {
-            (Some(n), _) => truncated_normal_radii(&mut rng, mean, sd, min, max, |k, _| k < n),
-            (None, Some(phi)) => {
-                truncated_normal_radii(&mut rng, mean, sd, min, max, |_, v| v < phi * box_volume)
-            }
-            (None, None) => unreachable!("validated"),
-        };
+        let radii = draw_radii(scene, cfg, box_volume)?;
         radii.into_iter().map(|r| [r; 3]).collect()
     };
-    let solid: f64 = grains
-        .iter()
-        .map(|g| 4.0 / 3.0 * std::f64::consts::PI * g[0] * g[1] * g[2])
-        .sum();
+    let solid: f64 = grains.iter().map(volume).sum();
     // With both a count and a fraction the box keeps its shape, scaled to the fraction.
     let target = match (s.count, s.solid_fraction) {
         (Some(_), Some(phi)) => size * (solid / phi / box_volume).cbrt(),
@@ -379,28 +373,45 @@ pub fn radius_bounds(cfg: &GranularScene) -> (f64, f64, f64, f64) {
     (mean, sd, min, max)
 }
 
+/// The radii of a random sample of spheres, from the scene's seed: `count` of them, or as many
+/// as fill `solid_fraction` of a box of `box_volume` (m³).
+fn draw_radii(scene: &Scene, cfg: &GranularScene, box_volume: f64) -> Result<Vec<f64>> {
+    let s = &cfg.sample;
+    let (mean, sd, min, max) = radius_bounds(cfg);
+    let mut rng = stream(scene.seed, STREAM_RADII);
+    match (s.count, s.solid_fraction) {
+        (Some(n), _) => Ok(truncated_normal_radii(
+            &mut rng,
+            mean,
+            sd,
+            min,
+            max,
+            |k, _| k < n,
+        )),
+        (None, Some(phi)) => Ok(truncated_normal_radii(
+            &mut rng,
+            mean,
+            sd,
+            min,
+            max,
+            |_, v| v < phi * box_volume,
+        )),
+        (None, None) => Err(scene.key_error(
+            "sample.count",
+            "or sample.solid_fraction is required for sample.kind = \"random\"",
+        )),
+    }
+}
+
 fn random_sample(
     scene: &Scene,
     cfg: &GranularScene,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<(Bodies, Walls)> {
     let s = &cfg.sample;
-    let (mean, sd, min, max) = radius_bounds(cfg);
     let mut size = Vec3::from(s.box_size.expect("validated"));
     let box_volume = size.x * size.y * size.z;
-    let mut rng = stream(scene.seed, STREAM_RADII);
-    let radii = match (s.count, s.solid_fraction) {
-        (Some(n), _) => truncated_normal_radii(&mut rng, mean, sd, min, max, |k, _| k < n),
-        (None, Some(phi)) => {
-            truncated_normal_radii(&mut rng, mean, sd, min, max, |_, v| v < phi * box_volume)
-        }
-        (None, None) => {
-            return Err(scene.key_error(
-                "sample.count",
-                "or sample.solid_fraction is required for sample.kind = \"random\"",
-            ));
-        }
-    };
+    let radii = draw_radii(scene, cfg, box_volume)?;
     let solid: f64 = radii.iter().map(|&r| sphere_volume(r)).sum();
     if let (Some(_), Some(phi)) = (s.count, s.solid_fraction) {
         // Both a count and a fraction: keep the box's shape, scale it to the fraction.
