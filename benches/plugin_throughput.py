@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Fractum alone against LAMMPS + the Fractum plugin, on the same SHPB sample and window.
 
-Usage: .venv/bin/python benches/plugin_throughput.py [--strain S] [--boxes MM,...] [--cores 1,2]
+Usage: .venv/bin/python benches/plugin_throughput.py [--strain S] [--boxes MM,...] [--cores 1,2] [--plugin SO]
 
 For each box edge (default 6 mm: the main job's 986 grains; 12 mm: the same recipe with about
 8000 grains) the main job's scene (scenes/shpb_sand.toml, breaking grains) is run from the start
@@ -66,9 +66,9 @@ def export(box_mm, strain, work):
     return d, time.time() - started
 
 
-def run_lammps(d, ranks):
+def run_lammps(d, ranks, plugin=PLUGIN):
     env = dict(os.environ, LD_LIBRARY_PATH=os.path.join(VENV, "lib"), OMP_NUM_THREADS="1")
-    cmd = [lmp_binary(), "-in", "in.fractum", "-var", "plugin", PLUGIN, "-log", f"log.{ranks}", "-screen", "none"]
+    cmd = [lmp_binary(), "-in", "in.fractum", "-var", "plugin", plugin, "-log", f"log.{ranks}", "-screen", "none"]
     if ranks > 1:
         cmd = [os.path.join(VENV, "bin", "mpiexec"), "-np", str(ranks)] + cmd
     subprocess.run(cmd, cwd=d, env=env, check=True)
@@ -84,6 +84,8 @@ def main():
     ap.add_argument("--strain", type=float, default=0.02)
     ap.add_argument("--boxes", default="6,12")
     ap.add_argument("--cores", default="1,2")
+    ap.add_argument("--plugin", default=PLUGIN, help="the plugin to load (default dist/fractumplugin.so): "
+                    "compare two builds of it on the same machine")
     a = ap.parse_args()
     cores = [int(c) for c in a.cores.split(",")]
     rows = []
@@ -92,7 +94,7 @@ def main():
             d, export_s = export(box, a.strain, work)
             print(f"box {box:g} mm: exported in {export_s:.1f} s", file=sys.stderr)
             for c in cores:
-                for code, r in (("Fractum", run_fractum(box, a.strain, c, work)), ("LAMMPS + plugin", run_lammps(d, c))):
+                for code, r in (("Fractum", run_fractum(box, a.strain, c, work)), ("LAMMPS + plugin", run_lammps(d, c, os.path.abspath(a.plugin)))):
                     rate = r["steps"] * r["bodies_mean"] / r["seconds"]
                     rows.append((box, code, c, r, rate))
                     print(f"  {code} on {c}: {r['steps']} steps, {r['seconds']:.2f} s, {rate:.3e} particle-steps/s",
