@@ -774,6 +774,16 @@ enum FractumStatus fractum_kernel_frequency_shares(const struct FractumContactLa
 // 0.2); it checks every output step and after every split.
 enum FractumStatus fractum_kernel_adapted_step(double sum, double dt, double target, double *next);
 
+// Fractum's check of a step against its contacts, as its granular run makes it: with `sum`
+// the largest row of the frequency bound over all bodies (as for
+// `fractum_kernel_adapted_step`), `*omega_dt` = omega dt and `*verdict` = 2 when the step is
+// unstable (omega dt above `granular::OMEGA_DT_LIMIT`, 2: the run stops), 1 when contacts are
+// resolved by few steps (above `OMEGA_DT_WARN`, 1.6: a warning), else 0.
+enum FractumStatus fractum_kernel_step_check(double sum,
+                                             double dt,
+                                             double *omega_dt,
+                                             int32_t *verdict);
+
 // Velocity Verlet's second half kick of one grain (`velocity_verlet::kick_body`): `b`'s
 // velocity and angular velocity advance over `dt`/2 under `force` and `torque`.
 enum FractumStatus fractum_kernel_kick(struct FractumBody *b,

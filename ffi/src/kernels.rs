@@ -1719,6 +1719,34 @@ pub extern "C" fn fractum_kernel_adapted_step(
     })
 }
 
+/// Fractum's check of a step against its contacts, as its granular run makes it: with `sum`
+/// the largest row of the frequency bound over all bodies (as for
+/// `fractum_kernel_adapted_step`), `*omega_dt` = omega dt and `*verdict` = 2 when the step is
+/// unstable (omega dt above `granular::OMEGA_DT_LIMIT`, 2: the run stops), 1 when contacts are
+/// resolved by few steps (above `OMEGA_DT_WARN`, 1.6: a warning), else 0.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_step_check(
+    sum: f64,
+    dt: f64,
+    omega_dt: *mut f64,
+    verdict: *mut i32,
+) -> FractumStatus {
+    kernel(|| {
+        input_if(!(sum >= 0.0 && dt > 0.0 && dt.is_finite()))?;
+        let (omega_dt, verdict) = (get_mut(omega_dt)?, get_mut(verdict)?);
+        *omega_dt = fractum::effects::contact::frequency_bound(sum) * dt;
+        use fractum::models::granular::{OMEGA_DT_LIMIT, OMEGA_DT_WARN};
+        *verdict = if *omega_dt > OMEGA_DT_LIMIT {
+            2
+        } else if *omega_dt > OMEGA_DT_WARN {
+            1
+        } else {
+            0
+        };
+        Ok(())
+    })
+}
+
 /// Velocity Verlet's second half kick of one grain (`velocity_verlet::kick_body`): `b`'s
 /// velocity and angular velocity advance over `dt`/2 under `force` and `torque`.
 #[unsafe(no_mangle)]
@@ -2079,6 +2107,34 @@ mod tests {
                 assert_eq!(out.touching, 1);
             }
         }
+    }
+
+    /// The step check's verdicts at Fractum's limits (omega dt 2: stop, 1.6: warn), and bad
+    /// arguments refused.
+    #[test]
+    fn step_check_gives_the_runs_verdicts() {
+        let (mut x, mut v) = (0.0, -1);
+        // omega = 1e6 rad/s (sum 1e12): dt 1e-6 gives omega dt 1.
+        for (dt, expect) in [(1e-6, 0), (1.7e-6, 1), (2.1e-6, 2)] {
+            assert_eq!(
+                fractum_kernel_step_check(1e12, dt, &mut x, &mut v),
+                FRACTUM_OK
+            );
+            assert_eq!(v, expect, "dt {dt}");
+            assert!((x - dt * 1e6).abs() <= 1e-12 * x);
+        }
+        assert_eq!(
+            fractum_kernel_step_check(f64::NAN, 1e-6, &mut x, &mut v),
+            FRACTUM_ERR_INPUT
+        );
+        assert_eq!(
+            fractum_kernel_step_check(1.0, 0.0, &mut x, &mut v),
+            FRACTUM_ERR_INPUT
+        );
+        assert_eq!(
+            fractum_kernel_step_check(1.0, 1.0, null_mut(), &mut v),
+            FRACTUM_ERR_NULL
+        );
     }
 
     /// Pairs of spheres and poly-ellipsoids at separations scaled from touching bounding

@@ -215,6 +215,8 @@ void FixFractumFracture::init()
   }
   pair->recording = true;
   pair->sigma_f = sigma_f;
+  // The setup's evaluation sums the frequency shares: setup() checks the step against them.
+  pair->frequency_due = true;
 }
 
 double FixFractumFracture::draw_strength(tagint tag, int generation, const FractumBody &b)
@@ -243,8 +245,40 @@ void FixFractumFracture::setup(int)
   }
   // The forces of the run's first step include the springs' (not advanced here).
   spring_forces(false);
+  check_step();
   // Also after a restart.
   schedule_frequency();
+}
+
+/* The step against the stiffest body's contacts at the setup's evaluation, as Fractum's run
+   checks it (fractum_kernel_step_check): velocity Verlet is unstable above omega dt = 2 (the
+   run stops here) and resolves a contact by few steps above 1.6 (a warning, once). At the
+   setup, and without adapt_dt at every step; with it, the adapted step stays at
+   adapt_omega_dt (< 2). */
+void FixFractumFracture::check_step()
+{
+  double local = 0.0, sum = 0.0;
+  const int nlocal = atom->nlocal;
+  if (static_cast<int>(pair->shares.size()) >= nlocal)
+    for (int i = 0; i < nlocal; i++) local = std::max(local, pair->shares[i]);
+  MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_MAX, world);
+  double omega_dt = 0.0;
+  int verdict = 0;
+  int status = fractum_kernel_step_check(sum, update->dt, &omega_dt, &verdict);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "step_check", status);
+  const double omega = omega_dt / update->dt;
+  if (verdict == 2)
+    error->all(FLERR,
+               "{}: the time step {} s is too long for the contacts at step {}: the stiffest body "
+               "oscillates with omega dt = {:.3f}, and velocity Verlet needs less than 2; "
+               "set timestep below {:.4g} s ({:.4g} s gives omega dt 0.6)",
+               STYLE, update->dt, update->ntimestep, omega_dt, 2.0 / omega, 0.6 / omega);
+  if (verdict == 1 && !warned_step && comm->me == 0)
+    error->warning(FLERR,
+                   "{}: omega dt = {:.3f} at step {}: contacts are resolved by few steps and "
+                   "results lose accuracy; consider timestep {:.4g} s (omega dt 0.6)",
+                   STYLE, omega_dt, update->ntimestep, 0.6 / omega);
+  if (verdict == 1) warned_step = true;
 }
 
 /* The next step's evaluation sums frequency shares when the step is to be checked then: an
@@ -253,6 +287,10 @@ void FixFractumFracture::schedule_frequency()
 {
   if (adapt_every > 0)
     pair->frequency_due = (update->ntimestep + 1) % adapt_every == 0 || !decisions.empty();
+  else
+    // Without the adaptation the step is still checked, at every step (a contact closes
+    // within a few steps: a check at output steps came after a run had already lost grains).
+    pair->frequency_due = true;
 }
 
 /* The cohesive springs of the owned atoms: both ends hold a copy, advanced identically
@@ -480,6 +518,9 @@ void FixFractumFracture::end_of_step()
       adapt_step();
     split_evaluated = false;
     schedule_frequency();
+  } else if (pair->frequency_due) {
+    check_step();
+    schedule_frequency();
   }
 }
 
@@ -620,7 +661,12 @@ void FixFractumFracture::pre_exchange()
     if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
     atom->nghost = 0;
     bigint before = atom->natoms;
-    lammps_create_atoms(lmp, n, ids.data(), type_all.data(), xs.data(), vs.data(), nullptr, 0);
+    const int made =
+        lammps_create_atoms(lmp, n, ids.data(), type_all.data(), xs.data(), vs.data(), nullptr, 0);
+    if (made < 0)
+      error->all(FLERR, "{}: LAMMPS could not create the {} halves of split grains "
+                 "(lammps_create_atoms failed; its reason is in LAMMPS's message before this one)",
+                 STYLE, n);
     if (atom->natoms != before + n)
       error->all(FLERR, "{}: {} halves of split grains were to be created and {} were: a half "
                  "lies outside the simulation box", STYLE, n, atom->natoms - before);

@@ -64,6 +64,7 @@ class FixFractumFracture : public Fix {
   bigint adapt_every = 0;    // 0: the step is left alone
   double adapt_omega_dt = 0.6;    // the omega dt the step is shortened to (Fractum: 3 x safety)
   bool split_evaluated = false;
+  bool warned_step = false;    // the omega dt warning given
   double shortened = 0.0;
   double failed_at = -1.0;
   double split_audit[3] = {0.0, 0.0, 0.0};
@@ -92,6 +93,7 @@ class FixFractumFracture : public Fix {
   void bond();
   void adapt_step();
   void schedule_frequency();
+  void check_step();
   void audit(const FractumBody &parent, const FractumBody &plus, const FractumBody &minus);
 };
 

@@ -65,6 +65,12 @@ FixFractumPlatens::FixFractumPlatens(LAMMPS *lmp, int narg, char **arg) : Fix(lm
   bool any = false;
   for (int k = 0; k < FACES; k++) any |= active[k];
   if (!any) error->all(FLERR, "{} needs at least one face: {}", STYLE, usage);
+  for (int axis = 0; axis < 3; axis++) {
+    const int lo = 2 * axis, hi = lo + 1;
+    if (active[lo] && active[hi] && !(point[lo][axis] < point[hi][axis]))
+      error->all(FLERR, "{}: {} = {} m must lie below {} = {} m (the grains are between them)",
+                 STYLE, FACE_NAMES[lo], point[lo][axis], FACE_NAMES[hi], point[hi][axis]);
+  }
   for (int k = 0; k < FACES; k++)
     if (!active[k] && (speed[k] != 0.0 || !speed_var[k].empty()))
       error->all(FLERR, "{}: vel {} names a face that is not defined", STYLE, FACE_NAMES[k]);

@@ -183,6 +183,50 @@ def test_bad_arguments_stop_with_one_sentence(tmp_path, line, words):
 
 
 @releases
+@pytest.mark.parametrize("scale, adapt, stops", [(28, 0, True), (1, 0, False), (28, 50, False)])
+def test_a_step_too_long_for_the_contacts_stops_the_run(tmp_path, scale, adapt, stops):
+    """The crushed grain with the exported step times `scale` and the step adaptation every
+    `adapt` steps (0: off): without the adaptation, 28 times the step stops the run with one
+    sentence naming omega dt and the timestep to set, as Fractum's run stops above omega dt 2
+    (it had run on and lost the grain's pieces out of the box); the exported step runs on, and
+    with the adaptation the step is shortened instead. 3000 steps each."""
+    folder = str(tmp_path)
+    fractum("export", "lammps", CRUSH, folder, "--plugin")
+    script = with_run(folder, run="run 3000")
+    dt = float(re.search(r"^timestep\s+(\S+)", script, re.M).group(1))
+    script = re.sub(r"^timestep\s+\S+", f"timestep {dt * scale:.6e}", script, flags=re.M)
+    script = re.sub(r"adapt_dt \d+", f"adapt_dt {adapt}", script)
+    p = lammps(folder, script, check=False)
+    out = p.stdout + p.stderr
+    assert "Segmentation" not in out
+    if stops:
+        assert p.returncode != 0, out[-2000:]
+        error = next(l for l in out.splitlines() if l.startswith("ERROR"))
+        for w in ("fix fractum/fracture", "too long", "omega dt", "timestep below"):
+            assert w in error, error
+    else:
+        assert p.returncode == 0, out[-2000:]
+        assert "too long" not in out
+
+
+@releases
+def test_inverted_platens_are_refused(tmp_path):
+    """Faces of an axis given the wrong way round (xlo above xhi) hold no grain between them:
+    refused with one sentence naming both faces."""
+    folder = str(tmp_path)
+    fractum("export", "lammps", os.path.join(ROOT, "scenes", "shpb_sand.toml"), folder,
+            "--plugin", *SMALL)
+    script = head_of(folder)
+    script = re.sub(r"fractum/platens xlo (\S+) xhi (\S+)", r"fractum/platens xlo \2 xhi \1", script)
+    p = lammps(folder, script + "run 0\n", check=False)
+    out = p.stdout + p.stderr
+    assert p.returncode != 0
+    error = next(l for l in out.splitlines() if l.startswith("ERROR"))
+    for w in ("fix fractum/platens", "xlo", "xhi", "below"):
+        assert w in error, error
+
+
+@releases
 def test_missing_array_names_it(tmp_path):
     folder = str(tmp_path)
     fractum("export", "lammps", os.path.join(ROOT, "scenes", "shpb_sand.toml"), folder,

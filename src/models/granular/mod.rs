@@ -135,8 +135,8 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
 const TEAM_MIN_SPHERES_PER_THREAD: usize = 1500;
 
 /// Above this estimated `ω dt` a run stops, above the second it warns.
-const OMEGA_DT_LIMIT: f64 = 2.0;
-const OMEGA_DT_WARN: f64 = 1.6;
+pub const OMEGA_DT_LIMIT: f64 = 2.0;
+pub const OMEGA_DT_WARN: f64 = 1.6;
 /// A fracture run with `time.dt = "auto"` keeps the estimated `ω dt` of its stiffest body at
 /// most this times `time.safety` (1.2 at the main job's 0.4): the safety that sets the first step
 /// from the Rayleigh step also sets how close to the stiffest contact the step stays as pieces
