@@ -192,6 +192,18 @@ typedef struct FractumTrigger {
   double value;
 } FractumTrigger;
 
+// What a grain's contacts load it with, as Fractum's fracture check sums it
+// (`fractum::fracture::GrainLoad`; `fractum_kernel_grain_load_add` adds one contact): the
+// moment of the contact forces about its centre, 9 doubles row-major (N m), the number of
+// critical contacts, and the three largest (stress, Pa, and point, m), largest first. Start
+// from all zeros each evaluation.
+typedef struct FractumGrainLoad {
+  double moment[9];
+  int64_t count;
+  double stress[3];
+  double point[3][3];
+} FractumGrainLoad;
+
 // A split made, waiting for the halves' forces to set its springs (world frame).
 typedef struct FractumPending {
   // The parent's centre of mass (m).
@@ -643,6 +655,42 @@ enum FractumStatus fractum_kernel_check(const struct FractumFractureLaw *law,
                                         const double (*critical_points)[3],
                                         double top_stress,
                                         struct FractumTrigger *out);
+
+// Adds one contact to grain load `load`, as Fractum's check adds it
+// (`fractum::fracture::GrainLoad::add`): the force `force` on the grain (3 doubles, N) at
+// `point` (m) to the moment about the grain's centre `centre` (m), and, when the contact
+// tensile stress of its Hertz force `hertz_force` (N) and radius `radius` (m) at Poisson's
+// ratio `poisson` is above `threshold` (Pa: sigma_f times the grain's Weibull factor), to
+// its critical contacts. A host adds a grain's contacts in the order Fractum would (the
+// moment is a sum: its last bits follow the order).
+enum FractumStatus fractum_kernel_grain_load_add(struct FractumGrainLoad *load,
+                                                 const double *centre,
+                                                 const double *force,
+                                                 const double *point,
+                                                 double hertz_force,
+                                                 double radius,
+                                                 double poisson,
+                                                 double threshold);
+
+// The Weibull factor of grain `grain` (its identity: 1 + its index in Fractum's bodies, the
+// atom ID of `fractum export lammps --plugin`) after `generation` splits, as Fractum's run
+// draws it (`fractum::fracture::grain_strength`, keyed by `seed`, grain and generation): of
+// the body `b`'s volume, with Weibull modulus `w` and reference size `x_m` (m).
+enum FractumStatus fractum_kernel_grain_strength(uint64_t seed,
+                                                 uint64_t grain,
+                                                 uint32_t generation,
+                                                 const struct FractumBody *b,
+                                                 double w,
+                                                 double x_m,
+                                                 double *factor);
+
+// The angles (3 doubles, rad) of the slight random rotation of sphere `grain`'s ideal break
+// plane at its split after `generation` splits, as Fractum's run draws them
+// (`fractum::fracture::grain_jitter`), for fractum_kernel_split's `jitter`.
+enum FractumStatus fractum_kernel_grain_jitter(uint64_t seed,
+                                               uint64_t grain,
+                                               uint32_t generation,
+                                               double *angles);
 
 // Splits grain `parent`, which carries the force `force` (3 doubles, N) and torque `torque`
 // (3 doubles, N m), for the reason `trigger` (kind 1 or 2, from fractum_kernel_check), as

@@ -26,7 +26,7 @@ use fractum::effects::contact::{
 use fractum::fracture::break_plane::{self, Trigger};
 use fractum::fracture::cohesion::{self, Demand, Spring};
 use fractum::fracture::{
-    Criterion, FractureParams, PendingSplit, bond_split, criteria, grain_average_stress,
+    Criterion, FractureParams, GrainLoad, PendingSplit, bond_split, criteria, grain_average_stress,
     grain_fails, split_grain,
 };
 use fractum::sample::{UNIFORM_COUNTERS, UNIFORMS_PER_COUNTER, uniforms};
@@ -205,6 +205,20 @@ pub struct FractumTrigger {
     pub normal: [f64; 3],
     /// The stress that broke the grain (Pa).
     pub value: f64,
+}
+
+/// What a grain's contacts load it with, as Fractum's fracture check sums it
+/// (`fractum::fracture::GrainLoad`; `fractum_kernel_grain_load_add` adds one contact): the
+/// moment of the contact forces about its centre, 9 doubles row-major (N m), the number of
+/// critical contacts, and the three largest (stress, Pa, and point, m), largest first. Start
+/// from all zeros each evaluation.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FractumGrainLoad {
+    pub moment: [f64; 9],
+    pub count: i64,
+    pub stress: [f64; 3],
+    pub point: [[f64; 3]; 3],
 }
 
 /// A split made, waiting for the halves' forces to set its springs (world frame).
@@ -1330,6 +1344,91 @@ fn pending_in(s: &FractumPending) -> Result<PendingSplit, FractumStatus> {
         points: s.points.map(Vec3::from),
         count: s.count as usize,
         area: s.area,
+    })
+}
+
+/// Adds one contact to grain load `load`, as Fractum's check adds it
+/// (`fractum::fracture::GrainLoad::add`): the force `force` on the grain (3 doubles, N) at
+/// `point` (m) to the moment about the grain's centre `centre` (m), and, when the contact
+/// tensile stress of its Hertz force `hertz_force` (N) and radius `radius` (m) at Poisson's
+/// ratio `poisson` is above `threshold` (Pa: sigma_f times the grain's Weibull factor), to
+/// its critical contacts. A host adds a grain's contacts in the order Fractum would (the
+/// moment is a sum: its last bits follow the order).
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub extern "C" fn fractum_kernel_grain_load_add(
+    load: *mut FractumGrainLoad,
+    centre: *const f64,
+    force: *const f64,
+    point: *const f64,
+    hertz_force: f64,
+    radius: f64,
+    poisson: f64,
+    threshold: f64,
+) -> FractumStatus {
+    kernel(|| {
+        let l = get_mut(load)?;
+        input_if(l.count < 0)?;
+        let (centre, force, point) = (vec3_at(centre)?, vec3_at(force)?, vec3_at(point)?);
+        let mut g = GrainLoad {
+            moment: matrix(&l.moment),
+            count: l.count as usize,
+            stress: l.stress,
+            point: l.point.map(Vec3::from),
+        };
+        g.add(
+            &centre,
+            &force,
+            &point,
+            hertz_force,
+            radius,
+            poisson,
+            threshold,
+        );
+        l.moment = matrix_out(&g.moment);
+        l.count = g.count as i64;
+        l.stress = g.stress;
+        l.point = g.point.map(Into::into);
+        Ok(())
+    })
+}
+
+/// The Weibull factor of grain `grain` (its identity: 1 + its index in Fractum's bodies, the
+/// atom ID of `fractum export lammps --plugin`) after `generation` splits, as Fractum's run
+/// draws it (`fractum::fracture::grain_strength`, keyed by `seed`, grain and generation): of
+/// the body `b`'s volume, with Weibull modulus `w` and reference size `x_m` (m).
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_grain_strength(
+    seed: u64,
+    grain: u64,
+    generation: u32,
+    b: *const FractumBody,
+    w: f64,
+    x_m: f64,
+    factor: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        input_if(!(w > 0.0 && x_m > 0.0))?;
+        let volume = body_in(get(b)?)?.volume();
+        *get_mut(factor)? =
+            fractum::fracture::grain_strength(seed, grain, generation, volume, w, x_m);
+        Ok(())
+    })
+}
+
+/// The angles (3 doubles, rad) of the slight random rotation of sphere `grain`'s ideal break
+/// plane at its split after `generation` splits, as Fractum's run draws them
+/// (`fractum::fracture::grain_jitter`), for fractum_kernel_split's `jitter`.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_grain_jitter(
+    seed: u64,
+    grain: u64,
+    generation: u32,
+    angles: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        *doubles_mut::<3>(angles)? = fractum::fracture::grain_jitter(seed, grain, generation);
+        Ok(())
     })
 }
 

@@ -25,10 +25,6 @@ static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [weibull_on 
                            "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
                            "[seed N] [adapt_dt EVERY] [adapt_omega_dt X]";
 
-/* Random streams of the plugin's draws (keyed by tag and generation: the same on any rank
-   count). */
-enum { KEY_STRENGTH = 1, KEY_JITTER = 2 };
-
 static void cross(const double *a, const double *b, double *c)
 {
   c[0] = a[1] * b[2] - a[2] * b[1];
@@ -219,15 +215,16 @@ void FixFractumFracture::init()
   pair->frequency_due = true;
 }
 
+/* The Weibull factor of grain `tag` after `generation` splits, drawn as Fractum's run draws it
+   (fractum_kernel_grain_strength: keyed by seed, grain and generation; 1 without weibull). */
 double FixFractumFracture::draw_strength(tagint tag, int generation, const FractumBody &b)
 {
   if (!weibull) return 1.0;
-  double p = 0.0, v = 0.0, factor = 0.0;
-  fractum_kernel_uniforms(static_cast<uint64_t>(seed), KEY_STRENGTH * (1ULL << 40) + tag,
-                          static_cast<uint64_t>(generation), 1, &p);
-  fractum_kernel_body_volume(&b, &v);
-  double x = std::cbrt(3.0 * v / (4.0 * M_PI));
-  fractum_kernel_weibull_factor(p, weibull_w, x, weibull_xm, &factor);
+  double factor = 0.0;
+  int status = fractum_kernel_grain_strength(static_cast<uint64_t>(seed), static_cast<uint64_t>(tag),
+                                             static_cast<uint32_t>(generation), &b, weibull_w,
+                                             weibull_xm, &factor);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "grain_strength", status);
   return factor;
 }
 
@@ -474,17 +471,17 @@ void FixFractumFracture::end_of_step()
   FractumBody b;
   FractumTrigger t;
   const int nlocal = atom->nlocal;
-  if (static_cast<int>(pair->critical.size()) < nlocal) return;    // no force evaluation yet
+  if (static_cast<int>(pair->loads.size()) < nlocal) return;    // no force evaluation yet
   for (int i = 0; i < nlocal; i++) {
     if (!(atom->mask[i] & groupbit) || grain[i][3] != 0.0) continue;
-    const double *m = &pair->moment[9 * (size_t) i];
+    const FractumGrainLoad &load = pair->loads[i];
     bool any = false;
-    for (int k = 0; k < 9; k++) any |= m[k] != 0.0;
+    for (int k = 0; k < 9; k++) any |= load.moment[k] != 0.0;
     if (!any) continue;
     fractum_body(atom, shape, quat, inertia, i, b);
-    const auto &c = pair->critical[i];
-    int status = fractum_kernel_check(&law, &b, grain[i][0], m, atom->torque[i],
-                                      static_cast<size_t>(c.count), c.point, c.stress[0], &t);
+    int status = fractum_kernel_check(&law, &b, grain[i][0], load.moment, atom->torque[i],
+                                      static_cast<size_t>(load.count), load.point,
+                                      load.count > 0 ? load.stress[0] : 0.0, &t);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "check", status);
     if (t.kind == 0) continue;
     // A grain whose shape forbids breaking fails without a split (as in Fractum): no decision,
@@ -596,10 +593,10 @@ void FixFractumFracture::pre_exchange()
     double angles[3];
     const double *jitter = nullptr;
     if (b.sphere && plane_jitter) {
-      double u[6];
-      fractum_kernel_uniforms(static_cast<uint64_t>(seed), KEY_JITTER * (1ULL << 40) + d.tag,
-                              static_cast<uint64_t>(generation), 6, u);
-      fractum_kernel_jitter_angles(u, angles);
+      int js = fractum_kernel_grain_jitter(static_cast<uint64_t>(seed),
+                                           static_cast<uint64_t>(d.tag),
+                                           static_cast<uint32_t>(generation), angles);
+      if (js != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "grain_jitter", js);
       jitter = angles;
     }
     int status = fractum_kernel_split(&law, &b, d.force, d.torque, &d.trigger, jitter, &out);

@@ -181,26 +181,9 @@ void PairFractumGranular::reset_record(double *r)
 void PairFractumGranular::record(int i, const double *f, const double *p, double hertz_force,
                                  double radius, double strength)
 {
-  double *m = &moment[9 * i];
-  double lever[3] = {p[0] - atom->x[i][0], p[1] - atom->x[i][1], p[2] - atom->x[i][2]};
-  for (int r = 0; r < 3; r++)
-    for (int c = 0; c < 3; c++) m[3 * r + c] += f[r] * lever[c];
-  double st = 0.0;
-  fractum_kernel_contact_tensile_stress(hertz_force, radius, poisson, &st);
-  if (!(st > sigma_f * strength)) return;
-  Critical &c = critical[i];
-  // Keep the three largest, largest first; an equal stress goes after those already kept.
-  int at = std::min(c.count, 3);
-  while (at > 0 && c.stress[at - 1] < st) at--;
-  if (at < 3) {
-    for (int k = std::min(c.count, 2); k > at; k--) {
-      c.stress[k] = c.stress[k - 1];
-      for (int d = 0; d < 3; d++) c.point[k][d] = c.point[k - 1][d];
-    }
-    c.stress[at] = st;
-    for (int d = 0; d < 3; d++) c.point[at][d] = p[d];
-  }
-  c.count++;
+  int status = fractum_kernel_grain_load_add(&loads[i], atom->x[i], f, p, hertz_force, radius,
+                                             poisson, sigma_f * strength);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "grain_load_add", status);
 }
 
 void PairFractumGranular::add_share(int i, const FractumContact &c, const FractumBody &b,
@@ -240,10 +223,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
     }
   }
   if (history && neighbor->ago == 0) check_history();
-  if (recording) {
-    moment.assign(9 * (size_t) nlocal, 0.0);
-    critical.assign(nlocal, Critical{0, {0, 0, 0}, {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}});
-  }
+  if (recording) loads.assign(nlocal, FractumGrainLoad{});
   if (frequency_due) shares.assign(nlocal, 0.0);
   elastic_energy = dissipated = 0.0;
   contacts = 0;
@@ -385,7 +365,7 @@ double PairFractumGranular::memory_usage()
 {
   return (double) bodies.capacity() * sizeof(FractumBody) +
       (double) places.capacity() * sizeof(FractumPlacement) +
-      (double) moment.capacity() * sizeof(double) + (double) critical.capacity() * sizeof(Critical) +
+      (double) loads.capacity() * sizeof(FractumGrainLoad) +
       (double) shares.capacity() * sizeof(double) +
       (double) touching.capacity() * sizeof(Touching) +
       (double) (sides.capacity() + order.capacity()) * sizeof(Side) +

@@ -45,18 +45,13 @@ class PairFractumGranular : public Pair {
   /* Bodies that are not spheres take part: Fractum's POLY contact variant. */
   int shapes = 0;
 
-  /* Grain fracture reads, per owned atom, the moment sum f (x) (x_c - x) of its contacts and its
-     critical contacts (tensile stress above its strength): the pair and the walls fill them
-     while `recording` is set (by fix fractum/fracture). */
+  /* Grain fracture reads, per owned atom, its grain load (libfractum's FractumGrainLoad: the
+     moment sum of its contacts and its critical contacts, summed by
+     fractum_kernel_grain_load_add as Fractum's check sums them): the pair and the walls fill
+     them while `recording` is set (by fix fractum/fracture). */
   bool recording = false;
   double sigma_f = 0.0;    // contact tensile strength (Pa) at Weibull factor 1
-  struct Critical {
-    int count;
-    double stress[3];
-    double point[3][3];
-  };
-  std::vector<double> moment;    // 9 per owned atom
-  std::vector<Critical> critical;
+  std::vector<FractumGrainLoad> loads;    // 1 per owned atom
   double elastic_energy = 0.0, dissipated = 0.0;    // this rank's, last evaluation
   int contacts = 0;
   /* Record one contact of owned atom i: force f on it at point p. */

@@ -5,8 +5,6 @@
 //! away from it again.
 
 use nalgebra::{Matrix3, Rotation3, SymmetricEigen, UnitQuaternion};
-use rand::{Rng, RngExt};
-use rand_chacha::ChaCha8Rng;
 
 use crate::state::Vec3;
 
@@ -147,24 +145,6 @@ pub fn jitter_rotation(alpha: f64, beta: f64, gamma: f64) -> Matrix3<f64> {
     let ry = Matrix3::new(cb, 0.0, -sb, 0.0, 1.0, 0.0, sb, 0.0, cb);
     let rz = Matrix3::new(cg, sg, 0.0, -sg, cg, 0.0, 0.0, 0.0, 1.0);
     rx * ry * rz
-}
-
-/// Three angles in [−θmax, −θmax/2] ∪ [θmax/2, θmax] (Section 3.3.1), drawn from `rng` as
-/// [`jitter_variates`] and mapped by [`jitter_angles`].
-pub fn random_jitter_angles(rng: &mut ChaCha8Rng) -> [f64; 3] {
-    jitter_angles(&jitter_variates(rng))
-}
-
-/// The six variates of [`random_jitter_angles`], in the order it draws them: per angle, the
-/// magnitude's uniform in [0, 1) (53 bits) and then the sign's, a 32-bit word over 2³² (which
-/// is >= 0.5 exactly when `rand` would draw `true` from that word).
-pub fn jitter_variates(rng: &mut ChaCha8Rng) -> [f64; 6] {
-    let mut u = [0.0; 6];
-    for pair in u.chunks_exact_mut(2) {
-        pair[0] = rng.random::<f64>();
-        pair[1] = f64::from(rng.next_u32()) * (1.0 / 4_294_967_296.0);
-    }
-    u
 }
 
 /// The angles (rad) of the random slight rotation from six uniform variates in [0, 1]: per
@@ -322,40 +302,13 @@ mod tests {
         let c_prime = Vec3::new(-b.sin(), b.cos() * a.sin(), a.cos() * b.cos());
         assert!((r.column(2) - c_prime).norm() < 1e-15);
         assert!((r.transpose() * r - Matrix3::identity()).norm() < 1e-14);
-        let mut rng = crate::sample::stream(1, 99);
         let tmax = max_jitter_angle();
         assert!((tmax - 0.19739555984988078).abs() < 1e-15);
-        for _ in 0..100 {
-            for x in random_jitter_angles(&mut rng) {
+        for grain in 1..=100 {
+            for x in crate::fracture::grain_jitter(1, grain, 0) {
                 assert!(x.abs() >= 0.5 * tmax && x.abs() <= tmax);
             }
         }
-    }
-
-    /// The draw as it was before it went through [`jitter_angles`]: the same angles from the
-    /// same stream, and the stream left at the same place.
-    #[test]
-    fn jitter_angles_are_those_rand_draws() {
-        let t = max_jitter_angle();
-        let old = |rng: &mut ChaCha8Rng| {
-            [(); 3].map(|_| {
-                let magnitude = t * (0.5 + 0.5 * rng.random::<f64>());
-                if rng.random::<bool>() {
-                    magnitude
-                } else {
-                    -magnitude
-                }
-            })
-        };
-        let (mut a, mut b) = (crate::sample::stream(7, 11), crate::sample::stream(7, 11));
-        let mut signs = [0usize; 2];
-        for _ in 0..2000 {
-            let (x, y) = (old(&mut a), random_jitter_angles(&mut b));
-            assert_eq!(x.map(f64::to_bits), y.map(f64::to_bits));
-            signs[usize::from(x[0] > 0.0)] += 1;
-        }
-        assert!(signs[0] > 900 && signs[1] > 900, "{signs:?}");
-        assert_eq!(a.next_u64(), b.next_u64());
     }
 
     #[test]

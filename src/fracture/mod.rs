@@ -29,8 +29,6 @@ pub mod subdivision;
 pub use spec::{FractureSpec, WeibullOn};
 
 use nalgebra::{Matrix3, UnitQuaternion};
-use rand::RngExt;
-use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::effects::ContactRecords;
@@ -159,22 +157,111 @@ pub struct GrainFracture {
     /// fracture) and the change of kinetic plus elastic energy at the splits (J).
     pub spring_work: f64,
     pub split_energy: f64,
-    rng: ChaCha8Rng,
-    /// The check's per-step work arrays, kept between steps (not state).
+    /// The scene's seed: each grain's draws come from keyed streams of it ([`grain_strength`],
+    /// [`grain_jitter`]).
+    seed: u64,
+    /// The check's per-step loads, kept between steps (not state).
     #[serde(skip)]
-    scratch: CheckScratch,
+    loads: Vec<GrainLoad>,
 }
 
-/// What [`GrainFracture::check`] gathers each step: per body the moment of its contact
-/// forces; the critical contacts (body, tensile stress, point).
-#[derive(Debug, Clone, Default)]
-struct CheckScratch {
-    moment: Vec<Matrix3<f64>>,
-    critical: Vec<(u32, f64, Vec3)>,
+/// What a grain's contacts load it with, summed contact by contact as the fracture check
+/// reads it: the moment of the contact forces about its centre, `Σ f ⊗ (p − x)`, and its
+/// critical contacts (contact tensile stress above σ_f times its Weibull factor): how many,
+/// and the three largest (stress, point), largest first, an equal stress after those kept.
+/// Fractum's check and a host's kernel calls (`fractum_kernel_grain_load_add`) sum it alike.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct GrainLoad {
+    pub moment: Matrix3<f64>,
+    pub count: usize,
+    pub stress: [f64; 3],
+    pub point: [Vec3; 3],
 }
 
-/// The random stream of fracture (Weibull variates, plane jitter).
-const STREAM_FRACTURE: u64 = 11;
+impl GrainLoad {
+    /// Adds one contact: `force` on the grain (centre `centre`) at `point`, with the Hertz
+    /// force and radius of its contact tensile stress (Eq. 23, `poisson`), critical above
+    /// `threshold` (σ_f times the grain's Weibull factor).
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn add(
+        &mut self,
+        centre: &Vec3,
+        force: &Vec3,
+        point: &Vec3,
+        hertz_force: f64,
+        radius: f64,
+        poisson: f64,
+        threshold: f64,
+    ) {
+        self.moment += force * (point - centre).transpose();
+        let st = criteria::contact_tensile_stress(hertz_force, radius, poisson);
+        if !(st > threshold) {
+            return;
+        }
+        let mut at = self.count.min(3);
+        while at > 0 && self.stress[at - 1] < st {
+            at -= 1;
+        }
+        if at < 3 {
+            let mut k = self.count.min(2);
+            while k > at {
+                self.stress[k] = self.stress[k - 1];
+                self.point[k] = self.point[k - 1];
+                k -= 1;
+            }
+            self.stress[at] = st;
+            self.point[at] = *point;
+        }
+        self.count += 1;
+    }
+
+    /// The points of the (at most three) largest critical contacts.
+    pub fn points(&self) -> &[Vec3] {
+        &self.point[..self.count.min(3)]
+    }
+
+    /// The largest critical contact tensile stress (0 without one).
+    pub fn top(&self) -> f64 {
+        if self.count > 0 { self.stress[0] } else { 0.0 }
+    }
+}
+
+/// The keys of a grain's draws on the scene seed's keyed streams
+/// ([`crate::sample::uniforms`]): the kind of draw times 2⁴⁰ plus the grain's identity.
+const KEY_STRENGTH: u64 = 1 << 40;
+const KEY_JITTER: u64 = 2 << 40;
+
+/// The Weibull factor of the strengths of grain `grain` after `generation` splits (Eq. 20-22:
+/// a fresh probability for each grain and each half, the size effect through the equivalent
+/// radius of its volume `volume`, m³), with modulus `w` and reference size `x_m` (m). `grain`
+/// is the grain's identity: 1 + its index among the bodies when it was made (a sample's grain
+/// at its place, a split's − half where it is appended), which is the atom ID of the same
+/// grain in a LAMMPS run of `fractum export lammps --plugin`. The draw depends on the seed,
+/// the grain and the generation only, not on the order grains are drawn in: the same in
+/// Fractum's run and in the plugin's, on any rank count.
+pub fn grain_strength(
+    seed: u64,
+    grain: u64,
+    generation: u32,
+    volume: f64,
+    w: f64,
+    x_m: f64,
+) -> f64 {
+    let mut p = [0.0];
+    crate::sample::uniforms(seed, KEY_STRENGTH + grain, u64::from(generation), &mut p);
+    let x = (3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt();
+    criteria::weibull_factor(p[0], w, x, x_m)
+}
+
+/// The angles (rad) of the slight random rotation of sphere `grain`'s ideal break plane at
+/// its split after `generation` splits (`break_plane::jitter_angles`), drawn as
+/// [`grain_strength`] draws: keyed by seed, grain and generation.
+pub fn grain_jitter(seed: u64, grain: u64, generation: u32) -> [f64; 3] {
+    let mut u = [0.0; 6];
+    crate::sample::uniforms(seed, KEY_JITTER + grain, u64::from(generation), &mut u);
+    break_plane::jitter_angles(&u)
+}
 
 impl GrainFracture {
     /// Whether the per-body arrays fit `n` bodies and every spring and piece points at a body
@@ -216,8 +303,8 @@ impl GrainFracture {
             events: Vec::new(),
             spring_work: 0.0,
             split_energy: 0.0,
-            rng: crate::sample::stream(seed, STREAM_FRACTURE),
-            scratch: CheckScratch::default(),
+            seed,
+            loads: Vec::new(),
         };
         for i in 0..n {
             let s = f.draw_strength(bodies, i);
@@ -226,20 +313,21 @@ impl GrainFracture {
         f
     }
 
-    /// A new Weibull factor for body i (1 without `weibull`): a fresh P for each grain and
-    /// each half, the size effect through its equivalent radius.
-    fn draw_strength(&mut self, bodies: &Bodies, i: usize) -> f64 {
+    /// Body i's Weibull factor (1 without `weibull`), by [`grain_strength`] with the body's
+    /// identity and generation.
+    fn draw_strength(&self, bodies: &Bodies, i: usize) -> f64 {
         let Some((w, x_m)) = self.params.weibull else {
             return 1.0;
         };
-        let p = loop {
-            let p: f64 = self.rng.random();
-            if p > 0.0 {
-                break p;
-            }
-        };
-        let x = (3.0 * bodies.volume(i) / (4.0 * std::f64::consts::PI)).cbrt();
-        criteria::weibull_factor(p, w, x, x_m)
+        let generation = u32::from(self.generation[i]);
+        grain_strength(
+            self.seed,
+            i as u64 + 1,
+            generation,
+            bodies.volume(i),
+            w,
+            x_m,
+        )
     }
 
     /// Grains of the sample that have broken.
@@ -310,21 +398,25 @@ impl GrainFracture {
     ) -> Vec<Breaking> {
         let n = bodies.len();
         let p = &self.params;
-        let CheckScratch { moment, critical } = &mut self.scratch;
-        moment.clear();
-        moment.resize(n, Matrix3::zeros());
-        critical.clear();
+        let loads = &mut self.loads;
+        loads.clear();
+        loads.resize(n, GrainLoad::default());
         let bonds = &self.bonds;
         let strength = &self.strength;
         let mut touch = |i: usize, force: Vec3, r: &crate::effects::ContactRecord| {
             if bonds[i] != 0 {
                 return;
             }
-            moment[i] += force * (r.point - bodies.pos[i]).transpose();
-            let st = criteria::contact_tensile_stress(r.hertz_force, r.radius, p.poisson);
-            if st > p.sigma_f * strength[i] {
-                critical.push((i as u32, st, r.point));
-            }
+            let threshold = p.sigma_f * strength[i];
+            loads[i].add(
+                &bodies.pos[i],
+                &force,
+                &r.point,
+                r.hertz_force,
+                r.radius,
+                p.poisson,
+                threshold,
+            );
         };
         for r in &records.list {
             touch(r.i as usize, r.force, r);
@@ -332,38 +424,26 @@ impl GrainFracture {
                 touch(r.j as usize, -r.force, r);
             }
         }
-        critical.sort_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)));
         // Each grain's criteria read only its own sums: grains are checked in blocks dealt
         // across the run's team, and the blocks' verdicts joined in grain order.
-        let moment = &*moment;
-        let critical = &*critical;
+        let loads = &*loads;
         let verdicts = |grains: std::ops::Range<usize>| {
             let mut out = Vec::new();
-            let mut c = critical.partition_point(|x| (x.0 as usize) < grains.start);
             for i in grains {
-                let start = c;
-                while c < critical.len() && critical[c].0 as usize == i {
-                    c += 1;
-                }
-                let m = &moment[i];
+                let load = &loads[i];
+                let m = &load.moment;
                 if bonds[i] != 0 || *m == Matrix3::zeros() {
                     continue;
                 }
-                let crit = &critical[start..c];
-                let mut points = [Vec3::zeros(); 3];
-                for (q, x) in points.iter_mut().zip(crit) {
-                    *q = x.2;
-                }
-                let top = crit.first().map_or(0.0, |x| x.1);
                 if let Some((trigger, criterion, stress)) = grain_fails(
                     p,
                     &bodies.body(i),
                     strength[i],
                     m,
                     &forces.torque[i],
-                    crit.len(),
-                    &points[..crit.len().min(3)],
-                    top,
+                    load.count,
+                    load.points(),
+                    load.top(),
                 ) {
                     out.push((i, trigger, criterion, stress));
                 }
@@ -391,9 +471,9 @@ impl GrainFracture {
     ) -> Vec<PendingSplit> {
         let mut pending = Vec::new();
         for &(i, trigger, criterion, stress) in breaking {
-            // A sphere's random slight rotation is drawn here, before the halves' strengths.
+            // A sphere's slight random rotation, keyed by the parent and its generation.
             let jitter = (bodies.shape[i].is_sphere() && self.params.plane_jitter)
-                .then(|| break_plane::random_jitter_angles(&mut self.rng));
+                .then(|| grain_jitter(self.seed, i as u64 + 1, u32::from(self.generation[i])));
             let Some(made) = split_grain(
                 &self.params,
                 &bodies.body(i),
@@ -548,7 +628,7 @@ pub struct GrainSplit {
 
 /// Splits `body` under the force and torque `force`, `torque` (N, N·m, world) that it carries,
 /// for the reason `trigger`: the break plane (a sphere first turns to the ideal plane and by
-/// the slight rotation `jitter`, the angles of [`break_plane::random_jitter_angles`], when
+/// the slight rotation `jitter`, the angles of [`grain_jitter`], when
 /// the scene asks), the two halves with the parent's motion, and the pending bond with its
 /// spring points (with cohesion). `None` when the grain's shape forbids breaking.
 pub fn split_grain(

@@ -387,7 +387,8 @@ const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// 2: dlsm states gained the Brazilian platens, the drop's size and the ground's total force.
 /// 3: the ground contact gained its surface (plane or jaw), velocity and reach, the
 /// Brazilian loading its arcs' pressure.
-const STATE_VERSION: u32 = 3;
+/// 4: grain fracture keeps the seed of its keyed draws instead of a sequential stream.
+const STATE_VERSION: u32 = 4;
 
 /// The runner's part of a checkpoint; the model's own bytes ride along.
 #[derive(Serialize, Deserialize)]
