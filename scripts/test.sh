@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The whole test suite, as CI runs it on a clean clone. It installs what it needs itself:
 # Debian packages with apt-get (libclang-dev for the FMU crate's FMI bindings, yade for the
-# wrapper's YADE test), Python packages into a local virtual environment, .venv/.
+# wrapper's YADE test, cmake for the LAMMPS plugin's build), Python packages into a local virtual environment, .venv/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -9,7 +9,7 @@ step() { printf '\n== %s\n' "$*"; }
 
 step "Debian packages"
 missing=()
-for pkg in libclang-dev yade; do
+for pkg in libclang-dev yade cmake; do
     dpkg -s "$pkg" >/dev/null 2>&1 || missing+=("$pkg")
 done
 if [ ${#missing[@]} -gt 0 ]; then

