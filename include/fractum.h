@@ -162,13 +162,13 @@ typedef struct FractumFractureLaw {
   double sigma_f;
   // Poisson's ratio of the grains (dimensionless).
   double poisson;
-  // Critical contacts that break a grain (>= 0).
+  // Critical contacts that break a grain (3 to 64: fractum_kernel_fracture_range).
   int32_t critical_contacts;
   // Nonzero: a sphere first turns its principal directions to the ideal break plane.
   int32_t ideal_plane;
   // Nonzero: a sphere's break plane takes the random slight rotation.
   int32_t plane_jitter;
-  // Springs per break plane, 0 without cohesion (0 to 16).
+  // Springs per break plane, 0 without cohesion (else 3 to 16: fractum_kernel_fracture_range).
   int32_t springs;
   // Cohesive energy G_c (J/m^2), 0 without cohesion.
   double gc;
@@ -655,6 +655,12 @@ enum FractumStatus fractum_kernel_check(const struct FractumFractureLaw *law,
                                         const double (*critical_points)[3],
                                         double top_stress,
                                         struct FractumTrigger *out);
+
+// The allowed range (inclusive) of the counting fracture key named `key` (a NUL-terminated
+// string: "critical_contacts" or "springs"), the one Fractum's scene checks and kernels use
+// (`fractum::fracture::key_range`): written to `*lo`, `*hi`. FRACTUM_ERR_INPUT for another
+// name.
+enum FractumStatus fractum_kernel_fracture_range(const char *key, double *lo, double *hi);
 
 // Adds one contact to grain load `load`, as Fractum's check adds it
 // (`fractum::fracture::GrainLoad::add`): the force `force` on the grain (3 doubles, N) at

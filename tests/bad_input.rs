@@ -638,3 +638,25 @@ fn an_explosion_disc_is_refused_by_its_printed_bound_and_builds_above_it() {
         );
     }
 }
+
+/// The counting fracture keys are refused at the library's bounds (`fracture::CRITICAL_CONTACTS`
+/// and `SPRINGS`), the bounds the kernels and the LAMMPS plugin's arguments take from there
+/// too (their own tests check those layers).
+#[test]
+fn fracture_counts_are_refused_at_the_librarys_bounds() {
+    let text = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/crush_grain.toml"),
+    )
+    .unwrap();
+    let (c, s) = (
+        fractum::fracture::CRITICAL_CONTACTS,
+        fractum::fracture::SPRINGS,
+    );
+    for (key, (lo, hi)) in [("fracture.critical_contacts", c), ("fracture.springs", s)] {
+        let range = format!("[{lo}, {hi}]");
+        for bad in [lo - 1, hi + 1] {
+            let set = format!("{key}={bad}");
+            fails(&text, &["--set", &set], &[key, &range]);
+        }
+    }
+}

@@ -175,13 +175,13 @@ pub struct FractumFractureLaw {
     pub sigma_f: f64,
     /// Poisson's ratio of the grains (dimensionless).
     pub poisson: f64,
-    /// Critical contacts that break a grain (>= 0).
+    /// Critical contacts that break a grain (3 to 64: fractum_kernel_fracture_range).
     pub critical_contacts: i32,
     /// Nonzero: a sphere first turns its principal directions to the ideal break plane.
     pub ideal_plane: i32,
     /// Nonzero: a sphere's break plane takes the random slight rotation.
     pub plane_jitter: i32,
-    /// Springs per break plane, 0 without cohesion (0 to 16).
+    /// Springs per break plane, 0 without cohesion (else 3 to 16: fractum_kernel_fracture_range).
     pub springs: i32,
     /// Cohesive energy G_c (J/m^2), 0 without cohesion.
     pub gc: f64,
@@ -291,6 +291,17 @@ fn kernel(f: impl FnOnce() -> KResult) -> FractumStatus {
         Ok(Err(status)) => status,
         Err(_) => FRACTUM_ERR_INTERNAL,
     }
+}
+
+/// A NUL-terminated UTF-8 string argument.
+fn c_str<'a>(p: *const std::ffi::c_char) -> Result<&'a str, FractumStatus> {
+    if p.is_null() {
+        return Err(FRACTUM_ERR_NULL);
+    }
+    // SAFETY: a non-null pointer from the caller is a NUL-terminated string (documented).
+    unsafe { std::ffi::CStr::from_ptr(p) }
+        .to_str()
+        .map_err(|_| FRACTUM_ERR_INPUT)
 }
 
 fn input_if(bad: bool) -> KResult {
@@ -1237,7 +1248,9 @@ pub extern "C" fn fractum_kernel_contacts_plane_normal(
 }
 
 fn fracture_params(l: &FractumFractureLaw) -> Result<FractureParams, FractumStatus> {
-    input_if(l.critical_contacts < 0 || !(0..=16).contains(&l.springs))?;
+    let within = |v: i32, (lo, hi): (usize, usize)| v >= 0 && (lo..=hi).contains(&(v as usize));
+    let springs_ok = l.springs == 0 || within(l.springs, fractum::fracture::SPRINGS);
+    input_if(!within(l.critical_contacts, fractum::fracture::CRITICAL_CONTACTS) || !springs_ok)?;
     Ok(FractureParams {
         mi: l.mi,
         sigma_c: l.sigma_c,
@@ -1344,6 +1357,26 @@ fn pending_in(s: &FractumPending) -> Result<PendingSplit, FractumStatus> {
         points: s.points.map(Vec3::from),
         count: s.count as usize,
         area: s.area,
+    })
+}
+
+/// The allowed range (inclusive) of the counting fracture key named `key` (a NUL-terminated
+/// string: "critical_contacts" or "springs"), the one Fractum's scene checks and kernels use
+/// (`fractum::fracture::key_range`): written to `*lo`, `*hi`. FRACTUM_ERR_INPUT for another
+/// name.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_fracture_range(
+    key: *const std::ffi::c_char,
+    lo: *mut f64,
+    hi: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let name = c_str(key)?;
+        let (a, b) = fractum::fracture::key_range(name).ok_or(FRACTUM_ERR_INPUT)?;
+        let (lo, hi) = (get_mut(lo)?, get_mut(hi)?);
+        *lo = a as f64;
+        *hi = b as f64;
+        Ok(())
     })
 }
 
@@ -2206,6 +2239,41 @@ mod tests {
                 assert_eq!(out.touching, 1);
             }
         }
+    }
+
+    /// Each counting fracture key is refused by the kernels at the bounds the library gives
+    /// (the scene's checks take the same constants; tests/bad_input.rs and the plugin's
+    /// tests check those layers).
+    #[test]
+    fn fracture_ranges_are_the_librarys_and_bound_the_kernels() {
+        let (mut lo, mut hi) = (0.0, 0.0);
+        for (key, range) in [
+            (c"critical_contacts", fractum::fracture::CRITICAL_CONTACTS),
+            (c"springs", fractum::fracture::SPRINGS),
+        ] {
+            assert_eq!(
+                fractum_kernel_fracture_range(key.as_ptr(), &mut lo, &mut hi),
+                FRACTUM_OK
+            );
+            assert_eq!((lo, hi), (range.0 as f64, range.1 as f64));
+        }
+        assert_eq!(
+            fractum_kernel_fracture_range(c"mi".as_ptr(), &mut lo, &mut hi),
+            FRACTUM_ERR_INPUT
+        );
+        let ok = |critical: i32, springs: i32| {
+            let mut l = fracture_law(springs, true, true);
+            l.critical_contacts = critical;
+            fracture_params(&l).is_ok()
+        };
+        let (c, s) = (
+            fractum::fracture::CRITICAL_CONTACTS,
+            fractum::fracture::SPRINGS,
+        );
+        assert!(ok(c.0 as i32, 0) && ok(c.1 as i32, 0));
+        assert!(!ok(c.0 as i32 - 1, 0) && !ok(c.1 as i32 + 1, 0));
+        assert!(ok(3, s.0 as i32) && ok(3, s.1 as i32));
+        assert!(!ok(3, s.0 as i32 - 1) && !ok(3, s.1 as i32 + 1));
     }
 
     /// The step check's verdicts at Fractum's limits (omega dt 2: stop, 1.6: warn), and bad

@@ -115,15 +115,21 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
       kic = num(iarg + 1, "cohesion");
       double n = num(iarg + 2, "cohesion");
       if (!(kic > 0)) error->all(FLERR, "{}: cohesion KIC = {} must be > 0 (Pa m^0.5)", STYLE, kic);
-      if (!(n >= 1 && n <= 16 && n == std::floor(n)))
-        error->all(FLERR, "{}: cohesion springs = {} must be an integer in 1..16", STYLE, n);
+      double lo = 0.0, hi = 0.0;
+      fractum_kernel_fracture_range("springs", &lo, &hi);
+      if (!(n >= lo && n <= hi && n == std::floor(n)))
+        error->all(FLERR, "{}: cohesion springs = {} must be an integer in {}..{}", STYLE, n, lo,
+                   hi);
       springs = static_cast<int>(n);
       cohesion = 1;
       iarg += 3;
     } else if (key == "critical_contacts") {
       double n = num(iarg + 1, "critical_contacts");
-      if (!(n >= 1 && n == std::floor(n)))
-        error->all(FLERR, "{}: critical_contacts = {} must be an integer >= 1", STYLE, n);
+      double lo = 0.0, hi = 0.0;
+      fractum_kernel_fracture_range("critical_contacts", &lo, &hi);
+      if (!(n >= lo && n <= hi && n == std::floor(n)))
+        error->all(FLERR, "{}: critical_contacts = {} must be an integer in {}..{}", STYLE, n, lo,
+                   hi);
       critical_contacts = static_cast<int>(n);
       iarg += 2;
     } else if (key == "ideal_plane") {
@@ -700,6 +706,11 @@ void FixFractumFracture::pre_exchange()
     counts[3] += all[k].criterion == 2;
     if (cohesion) pending.push_back(Pending{all[k].parent, ids[k], all[k].p});
   }
+  // Every rank holds the maxima over all splits so far: a restart file (written by rank 0)
+  // carries them.
+  double worst[3];
+  MPI_Allreduce(split_audit, worst, 3, MPI_DOUBLE, MPI_MAX, world);
+  for (int k = 0; k < 3; k++) split_audit[k] = worst[k];
   decisions.clear();
 }
 
@@ -734,13 +745,15 @@ double FixFractumFracture::compute_vector(int n)
 
 void FixFractumFracture::write_restart(FILE *fp)
 {
-  // Counters and the decisions waiting for the next step (every rank holds all of them).
+  // Counters, the split audit's maxima and the decisions waiting for the next step (every rank
+  // holds all of them).
   if (comm->me != 0) return;
   std::vector<double> buf;
-  buf.push_back(5.0);
+  buf.push_back(6.0);
   for (double c : counts) buf.push_back(c);
   buf.push_back(shortened);
   buf.push_back(failed_at);
+  for (double a : split_audit) buf.push_back(a);
   buf.push_back(static_cast<double>(decisions.size()));
   buf.push_back(static_cast<double>(sizeof(Decision)));
   const size_t doubles = (sizeof(Decision) + sizeof(double) - 1) / sizeof(double);
@@ -756,15 +769,16 @@ void FixFractumFracture::write_restart(FILE *fp)
 void FixFractumFracture::restart(char *raw)
 {
   auto *buf = reinterpret_cast<double *>(raw);
-  if (static_cast<int>(buf[0]) != 5)
+  if (static_cast<int>(buf[0]) != 6)
     error->all(FLERR, "{}: the restart file's fracture state is not this plugin's", STYLE);
   for (int k = 0; k < 4; k++) counts[k] = buf[1 + k];
   shortened = buf[5];
   failed_at = buf[6];
-  size_t n = static_cast<size_t>(buf[7]);
-  if (static_cast<size_t>(buf[8]) != sizeof(Decision))
+  for (int k = 0; k < 3; k++) split_audit[k] = buf[7 + k];
+  size_t n = static_cast<size_t>(buf[10]);
+  if (static_cast<size_t>(buf[11]) != sizeof(Decision))
     error->all(FLERR, "{}: the restart file's pending splits come from another build", STYLE);
   decisions.resize(n);
-  if (n) std::memcpy(decisions.data(), &buf[9], sizeof(Decision) * n);
+  if (n) std::memcpy(decisions.data(), &buf[12], sizeof(Decision) * n);
   if (n) next_reneighbor = update->ntimestep + 1;
 }

@@ -196,7 +196,8 @@ impl GrainLoad {
     ) {
         self.moment += force * (point - centre).transpose();
         let st = criteria::contact_tensile_stress(hertz_force, radius, poisson);
-        if !(st > threshold) {
+        // Not critical unless above (NaN is never critical).
+        if st.partial_cmp(&threshold) != Some(std::cmp::Ordering::Greater) {
             return;
         }
         let mut at = self.count.min(3);
@@ -224,6 +225,23 @@ impl GrainLoad {
     /// The largest critical contact tensile stress (0 without one).
     pub fn top(&self) -> f64 {
         if self.count > 0 { self.stress[0] } else { 0.0 }
+    }
+}
+
+/// The allowed ranges (inclusive) of the fracture keys that count things, the one place that
+/// the scene's checks, the kernels and the LAMMPS plugin's arguments take them from: the
+/// critical contacts that break a grain (three points span a break plane; Section 3.3.2 uses
+/// three) and the cohesive springs on a break plane (at least three hold the plane, the
+/// kernels and the plugin keep 16 slots per plane).
+pub const CRITICAL_CONTACTS: (usize, usize) = (3, 64);
+pub const SPRINGS: (usize, usize) = (3, 16);
+
+/// The range of fracture key `key` (`"critical_contacts"` or `"springs"`), `None` for another.
+pub fn key_range(key: &str) -> Option<(usize, usize)> {
+    match key {
+        "critical_contacts" => Some(CRITICAL_CONTACTS),
+        "springs" => Some(SPRINGS),
+        _ => None,
     }
 }
 
@@ -809,4 +827,46 @@ pub fn angular_acceleration(body: &Body, torque: &Vec3) -> Vec3 {
     let i = body.inertia;
     let l = w.component_mul(&i);
     q * (t - w.cross(&l)).component_div(&i)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The grain load keeps what the check used to select by sorting all of a grain's critical
+    /// contacts (stable, largest stress first): the count, the three largest in that order
+    /// (equal stresses in the order they came), and the moment; on random contacts with ties.
+    #[test]
+    fn grain_load_keeps_the_three_largest_as_a_stable_sort_would() {
+        let centre = Vec3::new(1e-3, -2e-3, 0.5e-3);
+        let mut u = [0.0; 4000];
+        crate::sample::uniforms(5, 77, 0, &mut u);
+        let mut v = u.iter().copied();
+        let mut next = move || v.next().unwrap();
+        for case in 0..100 {
+            let mut load = GrainLoad::default();
+            let mut all = Vec::new();
+            let mut moment = Matrix3::zeros();
+            for _ in 0..(case % 9) {
+                let force = Vec3::new(next() - 0.5, next() - 0.5, next() - 0.5);
+                let point = centre + Vec3::new(next(), next(), next()) * 1e-4;
+                // Hertz forces from a few values, so that stresses tie.
+                let hertz = [0.5, 1.0, 1.0, 2.0][(next() * 4.0) as usize % 4];
+                load.add(&centre, &force, &point, hertz, 1e-4, 0.2, 2e4);
+                moment += force * (point - centre).transpose();
+                let st = criteria::contact_tensile_stress(hertz, 1e-4, 0.2);
+                if st > 2e4 {
+                    all.push((st, point));
+                }
+            }
+            all.sort_by(|a, b| b.0.total_cmp(&a.0));
+            assert_eq!(load.count, all.len(), "case {case}");
+            assert_eq!(load.moment, moment);
+            let kept: Vec<(f64, Vec3)> = (0..load.count.min(3))
+                .map(|k| (load.stress[k], load.point[k]))
+                .collect();
+            assert_eq!(kept, all[..all.len().min(3)].to_vec(), "case {case}");
+            assert_eq!(load.top(), all.first().map_or(0.0, |x| x.0));
+        }
+    }
 }

@@ -166,7 +166,14 @@ def test_frictionless_spheres_equal_pair_granular(tmp_path):
     ("fix walls all fractum/platens zmid 0", ["fix fractum/platens", "zmid", "xlo"]),
     ("fix fracture all fractum/fracture mi 20 sigma_c 5e8", ["fix fractum/fracture", "sigma_f"]),
     ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 cohesion 1.77e6 40",
-     ["fix fractum/fracture", "cohesion", "1..16"]),
+     ["fix fractum/fracture", "cohesion", "3..16"]),
+    # The library's bounds (fracture::SPRINGS, CRITICAL_CONTACTS), as a scene's check gives them.
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 cohesion 1.77e6 2",
+     ["fix fractum/fracture", "cohesion", "3..16"]),
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 critical_contacts 2",
+     ["fix fractum/fracture", "critical_contacts", "3..64"]),
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 critical_contacts 65",
+     ["fix fractum/fracture", "critical_contacts", "3..64"]),
 ])
 def test_bad_arguments_stop_with_one_sentence(tmp_path, line, words):
     folder = str(tmp_path)
@@ -387,6 +394,73 @@ def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel
 def export_small(folder):
     fractum("export", "lammps", os.path.join(ROOT, "scenes", "shpb_sand.toml"), folder,
             "--plugin", *SMALL)
+
+
+class FractumBody(__import__("ctypes").Structure):
+    """libfractum's FractumBody (include/fractum.h)."""
+    _fields_ = [(name, __import__("ctypes").c_double * n) for name, n in
+                [("pos", 3), ("vel", 3), ("omega", 3), ("quat", 4)]] + \
+               [("mass", __import__("ctypes").c_double), ("radius", __import__("ctypes").c_double)] + \
+               [(name, __import__("ctypes").c_double * n) for name, n in
+                [("semi", 6), ("origin", 3), ("to_body", 4), ("inertia", 3)]] + \
+               [("sphere", __import__("ctypes").c_int32)]
+
+
+def library_strength(lib, seed, tag, generation, sphere, radius, semi, w, xm):
+    """The Weibull factor Fractum's own run draws for grain `tag` after `generation` splits
+    (fractum_kernel_grain_strength, the library's fracture::grain_strength)."""
+    import ctypes
+    b = FractumBody()
+    b.radius, b.mass, b.sphere = radius, 1.0, int(sphere)
+    b.quat[0] = b.to_body[0] = 1.0
+    for k in range(6):
+        b.semi[k] = semi[k]
+    out = ctypes.c_double()
+    f = lib.fractum_kernel_grain_strength
+    f.argtypes = [ctypes.c_uint64, ctypes.c_uint64, ctypes.c_uint32, ctypes.POINTER(FractumBody),
+                  ctypes.c_double, ctypes.c_double, ctypes.POINTER(ctypes.c_double)]
+    assert f(seed, tag, generation, ctypes.byref(b), w, xm, ctypes.byref(out)) == 0
+    return out.value
+
+
+@releases
+def test_weibull_factors_are_the_librarys_draws_for_the_same_grains(tmp_path):
+    """Each grain's Weibull factor in the plugin is the one Fractum's own run draws for the same
+    grain (keyed by seed, grain and generation: the atom ID is 1 + Fractum's body index): the
+    sample's grains, drawn by the plugin itself from zeroed factors, equal those Fractum wrote
+    into the data file bit for bit; after a run with splits on 2 ranks, every half's factor
+    equals the library's draw for its ID and generation."""
+    import ctypes
+    folder = str(tmp_path)
+    export_small(folder)
+    head = head_of(folder)
+    seed = int(re.search(r" seed (\d+)", head).group(1))
+    w, xm = map(float, re.search(r" weibull (\S+) (\S+)", head).group(1, 2))
+    lib = ctypes.CDLL(os.path.join(os.path.dirname(PLUGIN), "libfractum.so"))
+    dump = ("write_dump all custom grains.dump id d2_fr_grain[1] d2_fr_grain[3] radius "
+            "d2_fr_shape[1] d2_fr_shape[2] d2_fr_shape[3] d2_fr_shape[4] d2_fr_shape[5] "
+            "d2_fr_shape[6] d2_fr_shape[7] modify format float %.17g sort id\n")
+    written = None
+    for zero, steps, ranks in ((False, 0, 1), (True, 0, 1), (False, 2000, 2)):
+        script = head + ("set group all d2_fr_grain[1] 0.0\n" if zero else "") + \
+            f"run {steps}\n" + 'print "SPLITS $(f_fracture[1])"\n' + dump
+        p = lammps(folder, script, ranks)
+        grains = read_dump(os.path.join(folder, "grains.dump"))
+        if written is None:
+            written = grains
+            continue
+        if zero:
+            assert np.array_equal(grains[:, 1], written[:, 1])
+            continue
+        splits = printed(p.stdout, "SPLITS")[0]
+        halves = grains[grains[:, 2] > 0]
+        print(f"{splits:.0f} splits, {len(halves)} atoms split at least once")
+        assert splits >= 3 and len(halves) >= 2 * 3 - 1
+        for row in grains:
+            tag, factor, generation, radius, sphere = row[0], row[1], row[2], row[3], row[4]
+            expect = library_strength(lib, seed, int(tag), int(generation), sphere != 0.0,
+                                      radius, row[5:11], w, xm)
+            assert factor == expect, (tag, generation, factor, expect)
 
 
 @releases

@@ -312,14 +312,20 @@ fn validate_fracture(s: &Scene, f: &FractureSpec) -> Result<()> {
         s,
         "fracture.critical_contacts",
         f.critical_contacts as f64,
-        Range::closed(3.0, 64.0),
+        Range::closed(
+            crate::fracture::CRITICAL_CONTACTS.0 as f64,
+            crate::fracture::CRITICAL_CONTACTS.1 as f64,
+        ),
         "",
     )?;
     check(
         s,
         "fracture.springs",
         f.springs as f64,
-        Range::closed(3.0, 16.0),
+        Range::closed(
+            crate::fracture::SPRINGS.0 as f64,
+            crate::fracture::SPRINGS.1 as f64,
+        ),
         "",
     )?;
     if let Some(v) = f.reference_strength {
