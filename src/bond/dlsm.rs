@@ -705,6 +705,35 @@ mod tests {
     }
 
     #[test]
+    fn the_strain_measures_differ_at_second_order_and_linear_is_exact() {
+        // A finite uniaxial stretch (e = 2e-3, ν = −0.95): Eq. 15 as printed gives the affine
+        // strain to round-off; the Green strains carry O(e²) terms, e²/e = 2e-3 of it.
+        let e = 2e-3;
+        let eps = Matrix3::from_diagonal(&Vec3::new(e, 0.95 * e, 0.95 * e));
+        let mut worst = [0.0f64; 3];
+        for (k, measure) in [
+            StrainMeasure::Linear,
+            StrainMeasure::GreenRotated,
+            StrainMeasure::GreenPushed,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let (cells, mut bodies, mut bonds) = sample(0.8, 300);
+            bonds.strain_measure = measure;
+            deform(&cells, &mut bodies, &eps, &UnitQuaternion::identity());
+            let mut forces = Forces::new(bodies.len());
+            bonds.evaluate(&bodies, &mut forces, None);
+            for i in 0..cells.len() {
+                let err = (mat_of(&bonds.element_strain(i)) - eps).norm() / eps.norm();
+                worst[k] = worst[k].max(err);
+            }
+        }
+        assert!(worst[0] < 1e-9, "linear: {}", worst[0]);
+        assert!(worst[1] > 2e-4 && worst[2] > 2e-4, "{worst:?}");
+    }
+
+    #[test]
     fn uniform_strain_gives_hookes_stress_and_balanced_interior_elements() {
         let (cells, mut bodies, mut bonds) = sample(0.8, 600);
         // Small enough that the geometric terms (O(ε²): current normals and lengths) stay
