@@ -25,8 +25,10 @@ use plotters::prelude::*;
 use rand::SeedableRng;
 use serde_json::{Value, json};
 
+/// The repository: `FRACTUM_REPO` when set (a copy elsewhere), else the one it was built in.
 fn repo() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+    std::env::var_os("FRACTUM_REPO")
+        .map_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")), PathBuf::from)
 }
 
 fn run(file: &str, overrides: &[String]) -> (DlsmRun, Value) {
@@ -123,6 +125,14 @@ fn columns(run: &DlsmRun, x: &str, y: &str) -> Vec<(f64, f64)> {
 fn main() {
     fractum::output::figure::register_font();
     let cases: Vec<String> = std::env::args().skip(1).collect();
+    if cases.first().map(String::as_str) == Some("uniform") {
+        uniform(&cases[1..]);
+        return;
+    }
+    if cases.first().map(String::as_str) == Some("ablate") {
+        ablate(&cases[1..]);
+        return;
+    }
     for case in &cases {
         eprintln!("== {case}");
         match case.as_str() {
@@ -582,4 +592,153 @@ fn crack_map(file: &str, runs: &[(String, Vec<(f64, f64)>)], columns: usize) {
     }
     svg.push_str("</svg>\n");
     std::fs::write(repo().join("docs/img").join(file), svg).unwrap();
+}
+
+/// `ablate LABEL SCENE KEY=VALUE...`: one tension run with the given overrides, recorded
+/// with the summary's fitted readings and the paper's (Section 8.2.1: ⟨E⟩ is the stress of
+/// Eq. 41 over the imposed elongation, here read at the end of the run from the face sets),
+/// and the largest kinetic energy of the run.
+fn ablate(args: &[String]) {
+    let (label, file, sets) = (&args[0], &args[1], &args[2..]);
+    let s = match try_run(file, sets) {
+        Ok((r, mut s)) => {
+            let col = |c: &str| r.series.column(c).unwrap_or_default();
+            if let Ok(dir) = std::env::var("ABLATE_SERIES") {
+                let mut out = r.series.columns.join(",") + "\n";
+                for row in &r.series.rows {
+                    let cells: Vec<String> = row.iter().map(|v| format!("{v:e}")).collect();
+                    out += &(cells.join(",") + "\n");
+                }
+                std::fs::write(format!("{dir}/{label}.csv"), out).unwrap();
+            }
+            let (stress, faces, lat_faces, strain, ly, lz, ke) = (
+                col("stress"),
+                col("strain_faces"),
+                col("lateral_strain_faces"),
+                col("strain"),
+                col("lateral_strain_y"),
+                col("lateral_strain_z"),
+                col("kinetic_energy"),
+            );
+            if let (Some(&sg), Some(&ef), Some(&lf), Some(&ex), Some(&y), Some(&z)) = (
+                stress.last(),
+                faces.last(),
+                lat_faces.last(),
+                strain.last(),
+                ly.last(),
+                lz.last(),
+            ) {
+                s["young_secant_faces"] = json!(sg / ef);
+                s["poisson_secant_faces"] = json!(-lf / ef);
+                s["young_secant_gauge"] = json!(sg / ex);
+                s["poisson_secant_gauge"] = json!(-0.5 * (y + z) / ex);
+                s["strain_faces_final"] = json!(ef);
+            }
+            s["kinetic_energy_max"] = json!(ke.iter().copied().fold(0.0, f64::max));
+            // Free vibration: the total energy's largest rise over its start, and when it
+            // first doubled (the scheme can only take energy out).
+            let (t, total) = (col("time"), col("total_energy"));
+            if let Some(&e0) = total.first() {
+                let top = total.iter().copied().fold(f64::MIN, f64::max);
+                s["energy_ratio_max"] = json!(top / e0);
+                s["energy_ratio_final"] = json!(total.last().unwrap() / e0);
+                s["time_final"] = json!(t.last());
+                if let Some(k) = total.iter().position(|&e| e > 2.0 * e0) {
+                    s["energy_doubled_at"] = json!(t[k]);
+                }
+            }
+            s
+        }
+        Err(e) => json!({ "refused": e }),
+    };
+    record(
+        label,
+        pick(
+            &s,
+            &[
+                "elements",
+                "steps",
+                "dt",
+                "dt_critical",
+                "dt_rotational",
+                "phi",
+                "apparent_young",
+                "apparent_poisson",
+                "young_secant_faces",
+                "poisson_secant_faces",
+                "young_secant_gauge",
+                "poisson_secant_gauge",
+                "strain_faces_final",
+                "kinetic_energy_max",
+                "kinetic_energy_final",
+                "energy_ratio_max",
+                "energy_ratio_final",
+                "energy_doubled_at",
+                "time_final",
+                "frequency_measured",
+                "frequency_theory",
+                "wall_seconds",
+                "error",
+                "refused",
+            ],
+        ),
+    );
+}
+
+/// `uniform SCENE KEY=VALUE...`: the tension scene's lattice under the exact uniaxial-stress
+/// field (ε_xx = e, ε_yy = ε_zz = −ν e on every seed, rotations none): the largest residual
+/// force on an element that is not driven, over the force S E e of a mean contact, and the
+/// stress of Eq. 41 that field gives over E e. Uniform strain is reproduced exactly by the
+/// least squares, so the field is an equilibrium when the contact law is consistent.
+fn uniform(args: &[String]) {
+    use fractum::models::dlsm::loading::DlsmLoading;
+    use fractum::state::Forces;
+    let (file, sets) = (&args[0], &args[1..]);
+    let scene = Scene::load(&repo().join(file), sets).expect("scene");
+    let run = DlsmRun::new(scene, 2, &mut |_| {}).expect("build");
+    let m = &run.model;
+    let DlsmLoading::Tension(t) = &m.state.loading else {
+        panic!("a tension scene")
+    };
+    let (e, nu, young) = (1e-6, m.bonds.poisson, m.bonds.young);
+    let centre: Vec3 = m.reference.iter().sum::<Vec3>() / m.reference.len() as f64;
+    let mut b = m.state.bodies.clone();
+    for (p, r) in b.pos.iter_mut().zip(&m.reference) {
+        let d = r - centre;
+        *p = r + Vec3::new(e * d.x, -nu * e * d.y, -nu * e * d.z);
+    }
+    let mut bonds = m.bonds.clone();
+    let mut f = Forces::new(b.len());
+    bonds.evaluate(&b, &mut f, None);
+    let mut driven = vec![false; b.len()];
+    for k in 0..2 {
+        for &i in &t.faces[k] {
+            driven[i as usize] = true;
+        }
+    }
+    let mean_area = bonds.area.iter().sum::<f64>() / bonds.area.len() as f64;
+    let unit = mean_area * young * e;
+    let (mut worst, mut rms, mut count) = (0.0f64, 0.0, 0);
+    for (force, _) in f.force.iter().zip(&driven).filter(|(_, d)| !**d) {
+        let r = force.norm() / unit;
+        worst = worst.max(r);
+        rms += r * r;
+        count += 1;
+    }
+    let mut reaction = 0.0;
+    for (k, sign) in [(0usize, 1.0), (1, -1.0)] {
+        for &i in &t.faces[k] {
+            reaction += sign * f.force[i as usize].x;
+        }
+    }
+    let stress = reaction / (2.0 * t.section);
+    record(
+        &format!("uniform {}", sets.join(" ")),
+        json!({
+            "elements": b.len(),
+            "residual_max": worst,
+            "residual_rms": (rms / count.max(1) as f64).sqrt(),
+            "stress_over_E_e": stress / (young * e),
+        }),
+    );
 }

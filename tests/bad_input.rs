@@ -660,3 +660,38 @@ fn fracture_counts_are_refused_at_the_librarys_bounds() {
         }
     }
 }
+
+/// The dlsm strain measure and the tension grips: a wrong value, or a grip on a loading that
+/// has none, is refused at build with one line naming the key.
+#[test]
+fn dlsm_strain_measure_and_grip_are_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    for (scene, set, key) in [
+        (
+            "dlsm_tensile.toml",
+            "material.strain_measure=\"cubic\"",
+            "strain_measure",
+        ),
+        ("dlsm_tensile.toml", "loading.grip=\"glued\"", "grip"),
+        ("brazilian.toml", "loading.grip=\"clamped\"", "loading.grip"),
+    ] {
+        let file = common::repo().join("scenes").join(scene);
+        let o = common::fractum(
+            dir.path(),
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "--set",
+                set,
+                "--out",
+                out.to_str().unwrap(),
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{scene} {set}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(stderr.contains(key), "{stderr}");
+        assert!(!out.exists());
+    }
+}

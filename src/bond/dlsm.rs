@@ -38,6 +38,7 @@
 
 use nalgebra::{Matrix3, Quaternion, SymmetricEigen, UnitQuaternion};
 use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
 use crate::parallel::threads_here;
 use crate::sample::voronoi::{Neighbour, VoronoiCell};
@@ -45,6 +46,32 @@ use crate::state::{Bodies, Forces, Vec3};
 
 /// A symmetric tensor as [xx, yy, zz, xy, xz, yz].
 pub type Sym = [f64; 6];
+
+/// Which strain an element's least squares give (Section 2 builds it to first order, Eq. 15;
+/// the measures differ at second order in the strain).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StrainMeasure {
+    /// `G E Gᵀ` with `E = ½(FᵀF − P)`: Green's strain of the neighbourhood, carried to the
+    /// world by the neighbourhood's own motion (blind to the element's spin).
+    #[default]
+    GreenPushed,
+    /// `R E Rᵀ`: the same Green strain, turned to the world by the element's rotation.
+    GreenRotated,
+    /// `R sym(H) Rᵀ`, `H = F − P`: Eq. 15 as printed, linear in the neighbours' displacement
+    /// seen from the element's frame.
+    Linear,
+}
+
+impl StrainMeasure {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            StrainMeasure::GreenPushed => "green_pushed",
+            StrainMeasure::GreenRotated => "green_rotated",
+            StrainMeasure::Linear => "linear",
+        }
+    }
+}
 
 /// One neighbour of an element in the neighbour lists.
 #[derive(Debug, Clone, Copy)]
@@ -95,6 +122,8 @@ pub struct DlsmBonds {
     pub length0: Vec<f64>,
     rot_stiffness: Vec<f64>,
     pub broken: Vec<bool>,
+    /// The elements' strain measure.
+    pub strain_measure: StrainMeasure,
     // Scratch of the last evaluation.
     frame: Vec<UnitQuaternion<f64>>,
     strain: Vec<Sym>,
@@ -195,6 +224,7 @@ impl DlsmBonds {
             length0,
             rot_stiffness,
             broken: vec![false; contacts],
+            strain_measure: StrainMeasure::default(),
             frame: vec![UnitQuaternion::identity(); n],
             strain: vec![[0.0; 6]; n],
             out: vec![ContactOut::default(); contacts],
@@ -323,7 +353,7 @@ impl DlsmBonds {
         strength: Option<f64>,
     ) -> Vec<usize> {
         self.frames(bodies);
-        self.strains(&bodies.pos);
+        self.strains(&bodies.pos, &bodies.orientation);
         let broke = match strength {
             Some(s) => self.contact_pass::<true>(bodies, s),
             None => self.contact_pass::<false>(bodies, f64::INFINITY),
@@ -355,9 +385,10 @@ impl DlsmBonds {
     }
 
     /// Pass 2: every element's strain (world frame), Eq. 1–15.
-    fn strains(&mut self, seed: &[Vec3]) {
+    fn strains(&mut self, seed: &[Vec3], orientation: &[UnitQuaternion<f64>]) {
         let (start, entries) = (&self.start, &self.entries);
         let (proj, full) = (&self.proj, &self.full_rank);
+        let measure = self.strain_measure;
         let work = |i0: usize, out: &mut [Sym]| {
             for (k, e) in out.iter_mut().enumerate() {
                 let i = i0 + k;
@@ -375,13 +406,27 @@ impl DlsmBonds {
                 // It is carried to the world by the neighbourhood's own motion, R F E Fᵀ Rᵀ =
                 // G E Gᵀ (R E Rᵀ to first order in the strain), so that forces follow the
                 // material even where the element's rotation lags behind it.
-                let mut green = g.tr_mul(&g);
-                if full[i] {
-                    green -= Matrix3::identity();
+                let p = if full[i] {
+                    Matrix3::identity()
                 } else {
-                    green -= mat_of(&proj[i]);
-                }
-                *e = sym_of(&(g * (green * 0.5) * g.transpose()));
+                    mat_of(&proj[i])
+                };
+                *e = match measure {
+                    StrainMeasure::GreenPushed => {
+                        let green = g.tr_mul(&g) - p;
+                        sym_of(&(g * (green * 0.5) * g.transpose()))
+                    }
+                    StrainMeasure::GreenRotated => {
+                        let r = orientation[i].to_rotation_matrix().into_inner();
+                        let green = g.tr_mul(&g) - p;
+                        sym_of(&(r * (green * 0.5) * r.transpose()))
+                    }
+                    StrainMeasure::Linear => {
+                        let r = orientation[i].to_rotation_matrix().into_inner();
+                        let h = r.tr_mul(&g) - p;
+                        sym_of(&(r * mat_of(&sym_of(&h)) * r.transpose()))
+                    }
+                };
             }
         };
         if parallel(self.strain.len()) {
@@ -657,6 +702,35 @@ mod tests {
             bodies.orientation[i] = rot * bodies.orientation[i];
             bodies.pos[i] = rot * (c.seed + eps * c.seed);
         }
+    }
+
+    #[test]
+    fn the_strain_measures_differ_at_second_order_and_linear_is_exact() {
+        // A finite uniaxial stretch (e = 2e-3, ν = −0.95): Eq. 15 as printed gives the affine
+        // strain to round-off; the Green strains carry O(e²) terms, e²/e = 2e-3 of it.
+        let e = 2e-3;
+        let eps = Matrix3::from_diagonal(&Vec3::new(e, 0.95 * e, 0.95 * e));
+        let mut worst = [0.0f64; 3];
+        for (k, measure) in [
+            StrainMeasure::Linear,
+            StrainMeasure::GreenRotated,
+            StrainMeasure::GreenPushed,
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            let (cells, mut bodies, mut bonds) = sample(0.8, 300);
+            bonds.strain_measure = measure;
+            deform(&cells, &mut bodies, &eps, &UnitQuaternion::identity());
+            let mut forces = Forces::new(bodies.len());
+            bonds.evaluate(&bodies, &mut forces, None);
+            for i in 0..cells.len() {
+                let err = (mat_of(&bonds.element_strain(i)) - eps).norm() / eps.norm();
+                worst[k] = worst[k].max(err);
+            }
+        }
+        assert!(worst[0] < 1e-9, "linear: {}", worst[0]);
+        assert!(worst[1] > 2e-4 && worst[2] > 2e-4, "{worst:?}");
     }
 
     #[test]

@@ -10,7 +10,7 @@ use nalgebra::{Matrix3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
-use super::scene::{LoadBy, VibrationMode};
+use super::scene::{Grip, LoadBy, VibrationMode};
 use crate::bond::dlsm::rotation_vector;
 use crate::contact::polyhedron::{GroundContact, Surface};
 use crate::probe::Series;
@@ -75,6 +75,9 @@ pub struct Tension {
     pub reaction: [f64; 2],
     pub stop_fraction: f64,
     pub tensile_strength: Option<f64>,
+    /// Clamped grips: the driven elements' y and z are held too.
+    #[serde(default)]
+    pub grip: Grip,
 }
 
 /// A cylinder released from a static field, x− face clamped (Section 8.2.2). In tension the
@@ -439,7 +442,12 @@ impl DlsmLoading {
                 let rate = l.strain_rate * ramp_factor(t, l.ramp_time);
                 for k in 0..2 {
                     for (&i, &x) in l.faces[k].iter().zip(&l.lever[k]) {
-                        bodies.vel[i as usize].x = rate * x;
+                        let v = &mut bodies.vel[i as usize];
+                        v.x = rate * x;
+                        if l.grip == Grip::Clamped {
+                            v.y = 0.0;
+                            v.z = 0.0;
+                        }
                         bodies.omega[i as usize] = Vec3::zeros();
                     }
                 }
@@ -505,8 +513,13 @@ impl DlsmLoading {
                 let mut r = [0.0; 2];
                 for (k, sign) in [(0usize, 1.0), (1, -1.0)] {
                     for &i in &l.faces[k] {
-                        r[k] += sign * forces.force[i as usize].x;
-                        forces.force[i as usize].x = 0.0;
+                        let f = &mut forces.force[i as usize];
+                        r[k] += sign * f.x;
+                        f.x = 0.0;
+                        if l.grip == Grip::Clamped {
+                            f.y = 0.0;
+                            f.z = 0.0;
+                        }
                         forces.torque[i as usize] = Vec3::zeros();
                     }
                 }
@@ -799,11 +812,15 @@ impl DlsmLoading {
                 format!("none: nothing prescribed for {end_time:e} s")
             }
             DlsmLoading::Tension(l) => format!(
-                "tension along x: the {} elements on x- and the {} on x+ move apart along x as a uniform strain rate of {:e} 1/s moves their seeds (faces {} m apart), rotations held, y and z free, speed rising over {:e} s, to strain {}",
+                "tension along x: the {} elements on x- and the {} on x+ move apart along x as a uniform strain rate of {:e} 1/s moves their seeds (faces {} m apart), rotations held, {}, speed rising over {:e} s, to strain {}",
                 l.faces[0].len(),
                 l.faces[1].len(),
                 l.strain_rate,
                 l.length,
+                match l.grip {
+                    Grip::Sliding => "y and z free (sliding grips)",
+                    Grip::Clamped => "y and z held (clamped grips)",
+                },
                 l.ramp_time,
                 l.end_strain
             ),

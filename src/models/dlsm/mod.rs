@@ -748,6 +748,7 @@ fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmL
                 reaction: [0.0; 2],
                 stop_fraction: stop,
                 tensile_strength: strength,
+                grip: l.grip.unwrap_or_default(),
             })
         }
         LoadingKind::FreeVibration => {

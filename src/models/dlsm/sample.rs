@@ -168,7 +168,8 @@ pub fn build(
     }
     let m = &cfg.material;
     let (bodies, shapes) = elements(&cells, m.density);
-    let bonds = DlsmBonds::from_cells(&cells, &bodies, m.young, m.poisson);
+    let mut bonds = DlsmBonds::from_cells(&cells, &bodies, m.young, m.poisson);
+    bonds.strain_measure = m.strain_measure.unwrap_or_default();
     let mut boundary = Vec::new();
     for (i, c) in cells.iter().enumerate() {
         for f in &c.faces {

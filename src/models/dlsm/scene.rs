@@ -24,6 +24,9 @@ pub struct Material {
     pub tensile_strength: Option<f64>,
     /// Normal stiffness (N/m) of element–ground contacts (`contact` effect).
     pub contact_stiffness: Option<f64>,
+    /// The elements' strain measure: "green_pushed" (the default), "green_rotated" or
+    /// "linear" (Eq. 15 as printed); they differ at second order in the strain.
+    pub strain_measure: Option<crate::bond::dlsm::StrainMeasure>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -135,6 +138,26 @@ pub enum VibrationMode {
     Torsion,
 }
 
+/// How the driven elements of a tension test hold the x− and x+ faces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Grip {
+    /// Driven along x, rotations held, y and z free: the faces slide (uniaxial stress).
+    #[default]
+    Sliding,
+    /// Driven along x with y, z and the rotations held: the faces are bonded to the grips.
+    Clamped,
+}
+
+impl Grip {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Grip::Sliding => "sliding",
+            Grip::Clamped => "clamped",
+        }
+    }
+}
+
 /// How a Brazilian disc is loaded.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -179,6 +202,9 @@ pub struct LoadingSpec {
     pub speed: Option<f64>,
     /// Time (s) over which the prescribed speeds rise smoothly from zero.
     pub ramp_time: Option<f64>,
+    /// How the tension test's driven elements hold the x faces: "sliding" (y, z free, the
+    /// default) or "clamped" (y, z held).
+    pub grip: Option<Grip>,
     /// Loading arc 2α (degrees) of the Brazilian test; 0 loads the top and bottom elements.
     pub arc_degrees: Option<f64>,
     /// How a Brazilian disc is loaded: "elements" (prescribed speeds on the elements of the
@@ -381,6 +407,15 @@ fn validate_loading(s: &Scene, l: &LoadingSpec) -> Result<()> {
             check(s, "loading.strain_rate", rate, Range::POSITIVE, "1/s")?;
             let end = require(s, "loading.end_strain", l.end_strain, &why)?;
             check(s, "loading.end_strain", end, Range::open(0.0, 1.0), "")?;
+        }
+        _ if l.grip.is_some() => {
+            return Err(s.key_error(
+                "loading.grip",
+                format!(
+                    "applies to loading.kind = \"tension\", not \"{}\"",
+                    l.kind.as_str()
+                ),
+            ));
         }
         LoadingKind::FreeVibration => {
             let mode = require(s, "loading.mode", l.mode, &why)?;
