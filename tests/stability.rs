@@ -531,3 +531,85 @@ fn granular_impact_at_fractions_of_its_critical_step() {
         "largest omega dt {max}, theory 1.0"
     );
 }
+
+/// Runs `fractum run` with `args` in `cwd`, killed after `limit` seconds: `None` when it did
+/// not finish by then (a run that stalls must fail the test, not hang it).
+fn fractum_within(
+    cwd: &std::path::Path,
+    args: &[&str],
+    limit: f64,
+) -> Option<std::process::Output> {
+    let mut child = std::process::Command::new(common::fractum_bin())
+        .args(args)
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("fractum runs");
+    let start = std::time::Instant::now();
+    while child.try_wait().expect("waits").is_none() {
+        if start.elapsed().as_secs_f64() > limit {
+            child.kill().ok();
+            child.wait().ok();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    Some(child.wait_with_output().expect("output"))
+}
+
+#[test]
+fn a_flat_grain_crushed_between_platens_does_not_depend_on_how_often_rows_are_written() {
+    // The step adaptation ran at output steps only: with output.every = 1 this crush finished
+    // in about a second, with the scene's 50 its contacts stiffened unseen for 50 steps, the
+    // step collapsed from 1.1e-7 s to 1.8e-12 s and the run never ended, without a word.
+    // What a run computes must not depend on how often it writes.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = common::repo().join("scenes/crush_grain.toml");
+    let summary = |every: &str| {
+        let out = dir.path().join(format!("every_{every}"));
+        let every = format!("output.every={every}");
+        let args = [
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--threads",
+            "1",
+            "--set",
+            "sample.semi_axes=[1e-3,1e-3,1e-5,1e-5,1e-5,1e-5]",
+            "--set",
+            "sample.box=[4e-3,4e-3,1e-3]",
+            "--set",
+            "loading.end_displacement=1e-5",
+            "--set",
+            &every,
+        ];
+        let o = fractum_within(dir.path(), &args, 120.0)
+            .unwrap_or_else(|| panic!("{every}: still running after 120 s"));
+        assert!(
+            o.status.success(),
+            "{every}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let s: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+        s
+    };
+    let (every_row, every_50) = (summary("1"), summary("50"));
+    for key in [
+        "steps",
+        "time",
+        "dt",
+        "max_omega_dt",
+        "dt_shortened",
+        "kinetic_energy_final",
+        "contacts_final",
+        "fragments",
+        "broken_particles",
+    ] {
+        assert_eq!(every_row.get(key), every_50.get(key), "{key}");
+    }
+    assert!(every_row.get("steps").is_some() && every_row.get("dt").is_some());
+}

@@ -422,7 +422,10 @@ pub extern "C" fn fractum_model(handle: FractumHandle, kind: *mut *const c_char)
 }
 
 /// Takes up to `steps` steps of the run's own time step, never past the scene's end (so
-/// `UINT64_MAX` runs to the end; see `fractum_finished`). Series rows are recorded on the way
+/// `UINT64_MAX` runs to the end, also where the run shortens its step on the way; see
+/// `fractum_finished`). A run without an end of its own (faces driven from outside) refuses
+/// more than 1e9 steps in one call unless `fractum_set_call_limits` bounds it
+/// (FRACTUM_ERR_RUN). Series rows are recorded on the way
 /// as in `fractum run`: chunking a run into calls does not change it.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_advance(handle: FractumHandle, steps: u64) -> FractumStatus {

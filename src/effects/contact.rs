@@ -1245,8 +1245,11 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             for s in self.pairs.row(i) {
                 let j = self.pairs.partners[s] as usize;
                 let (ri, rj) = (bodies.radius[i], bodies.radius[j]);
-                let delta = ri + rj - (bodies.pos[i] - bodies.pos[j]).norm();
-                if delta > 0.0 {
+                // Most listed pairs are apart (the list holds a skin): no root for them, as
+                // this runs after every step.
+                let d2 = (bodies.pos[i] - bodies.pos[j]).norm_squared();
+                if d2 < (ri + rj) * (ri + rj) {
+                    let delta = ri + rj - d2.sqrt();
                     let k = two_e * (ri * rj / (ri + rj) * delta).sqrt();
                     stiffness[i] += k;
                     stiffness[j] += k;
@@ -1471,7 +1474,7 @@ pub fn contact_load(
     let q = Matrix3::from_diagonal_element(root_t) + normal * normal.transpose() * (1.0 - root_t);
     let h = q * g * q * stiffness;
     let h = (h + h.transpose()) * 0.5;
-    crate::fracture::criteria::symmetric3_eigenvalues(&h)[0]
+    crate::fracture::criteria::symmetric3_largest_eigenvalue(&h)
 }
 
 /// One contact's share of a body's row (rad²/s²): its load on the body, `own`, plus its

@@ -11,8 +11,9 @@
 //!              model.step(clock, dt)          the physics of one step
 //!              clock: step + 1, time + dt
 //!              model.after_step(clock)        e.g. granular fracture, which may shorten dt
+//!              finite? -> model.fault -> model.check_step (stability, step adaptation)
 //!              at output steps (every `output.every`, the last, and those the model asks):
-//!                finite? -> model.at_output -> series row -> model.after_row
+//!                series row -> model.after_row
 //! ```
 
 use std::sync::Arc;
@@ -183,9 +184,13 @@ pub trait Model: Send + Sized {
     fn output_due(&self, _clock: &Clock) -> bool {
         false
     }
-    /// At every output step, once the state is known to be finite and before the row:
-    /// stability checks and step adaptation.
-    fn at_output(
+    /// After every step, once the state is known to be finite and before any row: stability
+    /// checks and step adaptation. Every step, not at output steps only: a granular run that
+    /// adapted its step at output steps only took 50 steps between checks with the scene's
+    /// `output.every = 50`, its contacts stiffened unseen, and its step collapsed from
+    /// 1.1e-7 s to 1.8e-12 s (a run that never ended) where `output.every = 1` finished in
+    /// 1.3 s: the result depended on how often one wrote output.
+    fn check_step(
         &mut self,
         _scene: &Scene,
         _clock: &mut Clock,
@@ -331,6 +336,13 @@ pub struct CallLimits {
     pub max_seconds: f64,
     /// Set to stop the call in progress, or the next one, before its next step.
     pub cancel: Option<Arc<AtomicBool>>,
+}
+
+impl CallLimits {
+    /// Whether a call ends by itself, whatever the run: a bound on its steps or its time.
+    fn bounded(&self) -> bool {
+        self.max_steps > 0 || self.max_seconds > 0.0
+    }
 }
 
 /// One call's account against its [`CallLimits`].
@@ -538,13 +550,17 @@ impl<M: Model> Runner<M> {
     /// Takes up to `steps` steps (never past the end), recording series rows on the way.
     /// Fails when the state stops being finite.
     pub fn advance(&mut self, steps: u64) -> Result<()> {
-        let target = self
-            .clock
-            .step
-            .saturating_add(steps)
-            .min(self.clock.end_step);
+        // The end is read at every step, not once per call: a run that shortens its step
+        // (granular fracture) moves its end step later while it advances, and a call for
+        // `u64::MAX` steps stopped at the old end and returned with the run unfinished.
+        let target = self.clock.step.saturating_add(steps);
+        if self.clock.end_step == u64::MAX && steps as f64 > MAX_STEPS && !self.limits.bounded() {
+            return Err(Error::run(format!(
+                "cannot take {steps} steps in one call: this run has no end of its own (its faces are driven from outside) and more than the limit of 1e9 steps would run for days; advance by fewer steps, advance to a time, or bound the call (max_steps, max_seconds)"
+            )));
+        }
         self.stepping(|run, budget| {
-            if run.clock.step >= target || run.model.stopped() {
+            if run.clock.step >= target.min(run.clock.end_step) || run.model.stopped() {
                 return Ok(false);
             }
             budget.before_step(&run.clock)?;
@@ -604,8 +620,9 @@ impl<M: Model> Runner<M> {
 
     /// After every step: check the state is finite (a pass over the bodies, cheap beside the
     /// step; at output steps only, a run driven with a long output interval went on stepping
-    /// NaN and reported success). At output steps: let the model check its stability, and
-    /// record a series row.
+    /// NaN and reported success), and let the model check its stability and adapt its step
+    /// ([`Model::check_step`]). At output steps: record a series row. What a run computes
+    /// does not depend on `output.every`, only what it writes.
     fn after_step(&mut self) -> Result<()> {
         if let Some(i) = self.model.first_non_finite() {
             return Err(Error::run(format!(
@@ -622,6 +639,8 @@ impl<M: Model> Runner<M> {
                 self.clock.step, self.clock.time
             )));
         }
+        self.model
+            .check_step(&self.scene, &mut self.clock, &mut self.warnings)?;
         let c = &self.clock;
         let due = c.step % self.scene.output.every == 0
             || c.step == c.end_step
@@ -630,8 +649,6 @@ impl<M: Model> Runner<M> {
         if !due {
             return Ok(());
         }
-        self.model
-            .at_output(&self.scene, &mut self.clock, &mut self.warnings)?;
         self.record_row()?;
         self.model.after_row(&self.clock, &self.series);
         Ok(())
