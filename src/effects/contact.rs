@@ -1330,13 +1330,31 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
         postcard::to_stdvec(&saved).expect("contact history serialises")
     }
 
-    fn restore(&mut self, data: &[u8]) -> Result<()> {
+    fn restore(&mut self, data: &[u8], bodies: usize) -> Result<()> {
         if !(FRIC || POLY) || data.is_empty() {
             return Ok(());
         }
         let saved: SavedHistory = postcard::from_bytes(data).map_err(|e| {
             Error::run(format!("the checkpoint's contact history is damaged ({e})"))
         })?;
+        // The histories go into the lists by body index: one past the bodies indexed a row
+        // that does not exist (a panic at the first step after a forged restore).
+        let n = bodies as u32;
+        let pairs = saved.pairs.iter().map(|&(i, j, _)| (i, j));
+        let normals = saved.normals.iter().map(|&(i, j, _)| (i, j));
+        let walls = saved.walls.iter().map(|&(_, i, _)| (i, 0));
+        let radii = saved.wall_radii.iter().map(|&(_, i, _)| (i, 0));
+        if let Some((i, j)) = pairs
+            .chain(normals)
+            .chain(walls)
+            .chain(radii)
+            .find(|&(i, j)| i >= n || j >= n)
+        {
+            return Err(Error::run(format!(
+                "the checkpoint's contact history names body {} of a state of {bodies} bodies",
+                i.max(j)
+            )));
+        }
         // Lists are rebuilt at the next evaluation; the histories go in then.
         self.pairs = PairList::new(self.pairs.skin);
         self.wall_lists = WallLists::default();

@@ -21,7 +21,8 @@ const OLD_MAGIC: &[u8; 8] = b"FRACTUM\x01";
 /// Brazilian loading its arcs' pressure.
 /// 7: fracture constants gained `weibull_sigma_c`; the size distributions hold each piece's
 /// equivalent diameter of its own volume beside its mass.
-const FORMAT_VERSION: u32 = 7;
+/// 8: the run's state names the scene it belongs to, and is refused under another.
+const FORMAT_VERSION: u32 = 8;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {

@@ -399,11 +399,62 @@ const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// 2: dlsm states gained the Brazilian platens, the drop's size and the ground's total force.
 /// 3: the ground contact gained its surface (plane or jaw), velocity and reach, the
 /// Brazilian loading its arcs' pressure.
-const STATE_VERSION: u32 = 3;
+/// 4: the state names the scene it belongs to ([`SceneIdentity`]).
+const STATE_VERSION: u32 = 4;
+
+/// Which scene a saved state belongs to: a state restored under another scene took that
+/// scene's parameters with its own bodies (a dlsm state of E = 1 GPa went on under a handle of
+/// 20 GPa, a granular state of 58 bodies into a handle of 101, without a word).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SceneIdentity {
+    /// `model.kind`, the scene's name and seed, and its effects (the FMU's fracture switch
+    /// among them): what the refusal names.
+    pub model: String,
+    pub name: String,
+    pub seed: u64,
+    pub effects: Vec<String>,
+    /// FNV-1a of everything that makes the run: the model, seed, effects, time and gravity
+    /// keys and the model's own tables, overrides applied (not the output keys, nor comments
+    /// and layout of the file).
+    pub hash: u64,
+}
+
+impl SceneIdentity {
+    pub fn of(scene: &Scene) -> SceneIdentity {
+        let effects: Vec<String> = scene.effects.iter().map(|e| e.as_str().into()).collect();
+        let tables = toml::to_string(&scene.tables).unwrap_or_default();
+        let text = format!(
+            "{}\n{}\n{:?}\n{:?}\n{:?}\n{tables}",
+            scene.model.kind, scene.seed, effects, scene.time, scene.gravity
+        );
+        SceneIdentity {
+            model: scene.model.kind.clone(),
+            name: scene.name.clone(),
+            seed: scene.seed,
+            effects,
+            hash: crate::output::sealed::checksum(text.as_bytes()),
+        }
+    }
+}
+
+impl std::fmt::Display for SceneIdentity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "a {} run of scene \"{}\" (seed {}, effects [{}], scene hash {:016x})",
+            self.model,
+            self.name,
+            self.seed,
+            self.effects.join(", "),
+            self.hash
+        )
+    }
+}
 
 /// The runner's part of a checkpoint; the model's own bytes ride along.
 #[derive(Serialize, Deserialize)]
 struct RunnerState {
+    scene: SceneIdentity,
     clock: Clock,
     series: Series,
     warnings: Vec<String>,
@@ -492,8 +543,36 @@ impl<M: Model> Runner<M> {
                 M::KIND
             ))
         })?;
+        let ours = SceneIdentity::of(&scene);
+        if s.scene != ours {
+            let differs = if s.scene.name == ours.name && s.scene.seed == ours.seed {
+                " with other keys or overrides"
+            } else {
+                ""
+            };
+            return Err(Error::run(format!(
+                "the saved state belongs to another scene: it is the state of {}, this run is {ours}{differs}; restore a state into a run of the scene that saved it",
+                s.scene
+            )));
+        }
+        let c = &s.clock;
+        if !(c.time.is_finite() && c.time >= 0.0 && c.dt.is_finite() && c.dt > 0.0) {
+            return Err(Error::run(format!(
+                "the saved {} state is inconsistent: its clock reads t = {:e} s with a step of {:e} s (a finite time from 0 and a positive finite step expected)",
+                M::KIND,
+                c.time,
+                c.dt
+            )));
+        }
         let threads = Threads::new(threads)?;
         let model = threads.run(false, || M::restore(&scene, &s.model))?;
+        if let Some(i) = model.first_non_finite() {
+            return Err(Error::run(format!(
+                "the saved {} state is inconsistent: {} {i} has a non-finite position or velocity",
+                M::KIND,
+                M::BODY
+            )));
+        }
         Ok(Runner {
             scene,
             clock: s.clock,
@@ -736,6 +815,7 @@ impl<M: Model> Run for Runner<M> {
     }
     fn save_state(&self) -> Vec<u8> {
         let state = RunnerState {
+            scene: SceneIdentity::of(&self.scene),
             clock: self.clock,
             series: self.series.clone(),
             warnings: self.warnings.clone(),

@@ -91,9 +91,9 @@ pub struct GranularState {
 }
 
 impl GranularState {
-    /// Whether every per-body array (bodies, forces, fracture) has one entry per body and the
-    /// springs and pieces point at bodies and grains that exist; checked on a restored state
-    /// before it is stepped.
+    /// Whether every per-body array (bodies, forces, fracture) has one entry per body, the
+    /// springs and pieces point at bodies and grains that exist, and the bodies, walls and
+    /// forces hold finite values; checked on a restored state before it is stepped.
     fn check_lengths(&self) -> std::result::Result<(), String> {
         let n = self.bodies.len();
         self.bodies.check_lengths()?;
@@ -106,7 +106,17 @@ impl GranularState {
         )?;
         self.fracture
             .as_ref()
-            .map_or(Ok(()), |f| f.check_lengths(n))
+            .map_or(Ok(()), |f| f.check_lengths(n))?;
+        self.bodies.check_values()?;
+        self.walls.check_values()?;
+        let finite = |v: &[Vec3]| v.iter().all(|x| x.iter().all(|c| c.is_finite()));
+        if !(finite(&self.forces.force) && finite(&self.forces.torque)) {
+            return Err("a force or torque is not finite".into());
+        }
+        if !(self.height0.is_finite() && self.dt_rayleigh.is_finite()) {
+            return Err("the reference height or the Rayleigh step is not finite".into());
+        }
+        Ok(())
     }
 }
 
@@ -698,7 +708,7 @@ impl Model for Granular {
             Error::run(format!("the saved granular state is inconsistent: {why}"))
         })?;
         let mut model = Granular::with_state(scene, scene.section()?, state);
-        model.pipeline.restore(&effects)?;
+        model.pipeline.restore(&effects, model.state.bodies.len())?;
         Ok(model)
     }
 
