@@ -319,7 +319,8 @@ pub trait Run: Send {
     fn finished(&self) -> bool;
     /// Takes up to `steps` steps (never past the end), recording series rows on the way.
     fn advance(&mut self, steps: u64) -> Result<()>;
-    /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
+    /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it;
+    /// never past the end (a time beyond it stops there, as `advance` does).
     fn advance_to(&mut self, time: f64) -> Result<()>;
     /// The rows of series.csv so far.
     fn series(&self) -> &Series;
@@ -683,7 +684,8 @@ impl<M: Model> Runner<M> {
 
     /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
     /// The step size, not the distance to `time`, sets the accuracy. Series rows are recorded
-    /// as in [`Runner::advance`].
+    /// as in [`Runner::advance`]. Never past the end, as [`Runner::advance`]: a time beyond it
+    /// stops at the end step ([`Runner::finished`]), short of `time`.
     pub fn advance_to(&mut self, time: f64) -> Result<()> {
         if !time.is_finite() || time < self.clock.time {
             return Err(Error::run(format!(
@@ -705,7 +707,9 @@ impl<M: Model> Runner<M> {
         // A remainder below this is rounding, not a step to take.
         let tiny = 1e-9 * self.clock.dt;
         self.stepping(|run, budget| {
-            if time - run.clock.time <= tiny || run.model.stopped() {
+            // The scene's end stops it as it stops `advance`: a time past the end used to drive
+            // the loading on beyond it (platens past their end displacement).
+            if time - run.clock.time <= tiny || run.finished() {
                 return Ok(false);
             }
             budget.before_step(&run.clock)?;
