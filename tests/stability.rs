@@ -613,3 +613,66 @@ fn a_flat_grain_crushed_between_platens_does_not_depend_on_how_often_rows_are_wr
     }
     assert!(every_row.get("steps").is_some() && every_row.get("dt").is_some());
 }
+
+/// A scene of a fracture run with the automatic step for one grain squeezed in a box (the tests
+/// place the grain and the walls), ending at `end_time`.
+fn squeezed_scene(end_time: f64) -> fractum::Scene {
+    let text = format!(
+        r#"
+name = "squeezed"
+effects = ["contact", "friction", "fracture"]
+[material]
+young = 60e9
+poisson = 0.17
+density = 2650.0
+friction = 0.5
+[sample]
+kind = "text"
+file = "unused.txt"
+[fracture]
+reference_strength = 1e30
+sigma_c = 1e30
+[loading]
+kind = "none"
+end_time = {end_time:e}
+[time]
+safety = 0.2
+[output]
+every = 1000
+"#
+    );
+    fractum::Scene::from_toml(&text, "squeezed", std::path::Path::new("."), &[]).unwrap()
+}
+
+/// One sphere of radius 1 mm overlapping each of the six walls of its box by `delta`.
+fn squeezed(end_time: f64, delta: f64) -> fractum::Result<Simulation> {
+    let r = 1e-3;
+    let mut b = Bodies::default();
+    b.push_sphere(Vec3::zeros(), r, RHO, UnitQuaternion::identity());
+    let h = r - delta;
+    let walls = Walls::new_box(Vec3::new(-h, -h, -h), Vec3::new(h, h, h));
+    Simulation::from_sample(squeezed_scene(end_time), common::sample(b, walls), 1)
+}
+
+#[test]
+fn a_step_that_collapses_past_the_step_limit_stops_the_run_naming_the_cause() {
+    // The limit of 1e9 steps was checked at the build only: a fracture run whose step the
+    // adaptation shortened (stiff contacts) planned more steps than that, and a step that
+    // collapsed left a run that went on for ever without a word. Here the build plans 0.9e9
+    // steps at the first step, and the grain's contacts with the walls ask a shorter one.
+    let delta = 0.3e-3;
+    let dt0 = squeezed(1e-3, delta).unwrap().clock.dt;
+    let mut sim = squeezed(0.9e9 * dt0, delta).unwrap();
+    let err = sim.advance(10).unwrap_err().to_string();
+    assert!(
+        err.contains("the time step collapsed")
+            && err.contains("more than the limit of 1e9")
+            && err.contains("contact frequency"),
+        "{err}"
+    );
+    assert!(
+        sim.clock.step <= 1,
+        "stopped at the first step: {}",
+        sim.clock.step
+    );
+}
