@@ -282,6 +282,8 @@ enum FractumStatus fractum_create_from_text(const char *text,
                                             FractumHandle *handle);
 
 // Frees a simulation. The handle is invalid afterwards (using it gives FRACTUM_ERR_HANDLE).
+// An advance call in progress on it in another thread stops before its next step (it returns
+// FRACTUM_INTERRUPTED) and the run is dropped when it has.
 enum FractumStatus fractum_free(FractumHandle handle);
 
 // The scene's model (`model.kind`: "granular", "dlsm" or "beam2d") into `*kind`: a static
@@ -289,14 +291,19 @@ enum FractumStatus fractum_free(FractumHandle handle);
 enum FractumStatus fractum_model(FractumHandle handle, const char **kind);
 
 // Takes up to `steps` steps of the run's own time step, never past the scene's end (so
-// `UINT64_MAX` runs to the end; see `fractum_finished`). Series rows are recorded on the way
+// `UINT64_MAX` runs to the end, also where the run shortens its step on the way; see
+// `fractum_finished`). A run without an end of its own (faces driven from outside) refuses
+// more than 1e9 steps in one call unless `fractum_set_call_limits` bounds it
+// (FRACTUM_ERR_RUN). Series rows are recorded on the way
 // as in `fractum run`: chunking a run into calls does not change it.
 enum FractumStatus fractum_advance(FractumHandle handle, uint64_t steps);
 
 // Advances to exactly `time` (s), sub-stepping at the simulation's own time step and
-// shortening the last sub-step to land on `time`. A run whose integrator takes whole steps
+// shortening the last sub-step to land on `time`; never past the scene's end, as
+// `fractum_advance` (a time beyond it stops there: `fractum_finished` says so). A run whose integrator takes whole steps
 // only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN before taking any step.
-enum FractumStatus fractum_advance_to(FractumHandle handle, double time);
+enum FractumStatus fractum_advance_to(FractumHandle handle,
+                                      double time);
 
 // Bounds each later `fractum_advance` / `fractum_advance_to` call on this simulation: it
 // stops with `FRACTUM_INTERRUPTED`, before a step, once it has taken `max_steps` steps or run

@@ -695,3 +695,147 @@ fn dlsm_strain_measure_and_grip_are_checked() {
         assert!(!out.exists());
     }
 }
+
+#[test]
+fn an_automatic_step_longer_than_half_the_loading_is_refused_naming_the_material() {
+    // A Young's modulus of 1e3 Pa gave a reduced shpb_sand an automatic step of several times
+    // its loading: one step to 7x the end strain, exit code 0, a 72% energy error, and advice
+    // naming time.safety. Under time.dt = "auto" the modulus is at fault.
+    let (code, stderr, out) = common::run_scene_failing(
+        "scenes/shpb_sand.toml",
+        &[
+            "--set",
+            "material.young=1e3",
+            "--set",
+            "loading.end_strain=0.05",
+        ],
+    );
+    assert_eq!((code, out), (Some(2), false), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains("shpb_sand.toml: material.young (set with --set) = 1e3 Pa")
+            && stderr.contains("allowed: material.young >= ")
+            && stderr.contains("fewer than 2"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("time.safety ("), "{stderr}");
+}
+
+#[test]
+fn a_scene_or_checkpoint_that_is_not_a_regular_file_is_refused() {
+    // A FIFO given as a scene blocked for ever; /dev/zero was read until memory ran out.
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("scene.toml");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&fifo)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let out = dir.path().join("out");
+    for (command, path) in [
+        ("run", fifo.as_path()),
+        ("run", Path::new("/dev/zero")),
+        ("resume", Path::new("/dev/zero")),
+        ("resume", fifo.as_path()),
+        ("run", dir.path()),
+    ] {
+        let o = common::fractum(
+            dir.path(),
+            &[
+                command,
+                path.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{command} {path:?}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains(path.to_str().unwrap())
+                && (stderr.contains("not a regular file") || stderr.contains("is a folder")),
+            "{stderr}"
+        );
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn a_huge_value_is_not_echoed_whole() {
+    // A 10 MB value came back whole in the error message.
+    let value = "g".repeat(10_000_000);
+    let text = format!("{}\n[model]\nkind = \"{value}\"\n", base());
+    let (line, _) = refused(&text, &[]);
+    assert!(line.len() < 1000, "{} bytes", line.len());
+    assert!(
+        line.contains("model.kind") && line.contains('…') && line.contains("granular"),
+        "{line}"
+    );
+}
+
+#[test]
+fn a_resealed_checkpoint_with_a_nan_inside_is_refused_not_a_panic() {
+    // A checkpoint whose checksums were made again over a NaN position passed the seal and
+    // panicked in the neighbour search (index out of bounds) at the first step.
+    let (dir, file) = common::scene_file(&common::small_oedometer(60, "\"contact\"", 0.002));
+    let whole = dir.path().join("whole");
+    let o = common::fractum(
+        dir.path(),
+        &[
+            "run",
+            file.to_str().unwrap(),
+            "--out",
+            whole.to_str().unwrap(),
+            "--quiet",
+            "--checkpoint-every",
+            "50",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let good = whole.join("checkpoints/step_000000050.fcp");
+    let (run, _) = fractum::models::resume(&good, 1).unwrap();
+    let x = run.positions()[0].x.to_le_bytes();
+    let mut bytes = std::fs::read(&good).unwrap();
+    let at = bytes
+        .windows(8)
+        .position(|w| w == x)
+        .expect("the first body's x in the checkpoint");
+    bytes[at..at + 8].copy_from_slice(&f64::NAN.to_le_bytes());
+    // Seal again: the run's state (magic FRACTUMS) inside, then the whole file.
+    let reseal = |b: &mut [u8]| {
+        let end = b.len() - 8;
+        let sum = fractum::output::sealed::checksum(&b[..end]);
+        b[end..].copy_from_slice(&sum.to_le_bytes());
+    };
+    let inner = bytes
+        .windows(8)
+        .position(|w| w == b"FRACTUMS")
+        .expect("the run's state");
+    let len = u64::from_le_bytes(bytes[inner + 12..inner + 20].try_into().unwrap()) as usize;
+    reseal(&mut bytes[inner..inner + 20 + len + 8]);
+    reseal(&mut bytes);
+    let forged = dir.path().join("forged.fcp");
+    std::fs::write(&forged, &bytes).unwrap();
+    let out = dir.path().join("resumed");
+    let o = common::fractum(
+        dir.path(),
+        &[
+            "resume",
+            forged.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ],
+    );
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.contains(forged.to_str().unwrap())
+            && stderr.contains("body 0")
+            && stderr.contains("non-finite"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+}

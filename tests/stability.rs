@@ -531,3 +531,150 @@ fn granular_impact_at_fractions_of_its_critical_step() {
         "largest omega dt {max}, theory 1.0"
     );
 }
+
+/// Runs `fractum run` with `args` in `cwd`, killed after `limit` seconds: `None` when it did
+/// not finish by then (a run that stalls must fail the test, not hang it).
+fn fractum_within(
+    cwd: &std::path::Path,
+    args: &[&str],
+    limit: f64,
+) -> Option<std::process::Output> {
+    let mut child = std::process::Command::new(common::fractum_bin())
+        .args(args)
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("fractum runs");
+    let start = std::time::Instant::now();
+    while child.try_wait().expect("waits").is_none() {
+        if start.elapsed().as_secs_f64() > limit {
+            child.kill().ok();
+            child.wait().ok();
+            return None;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    Some(child.wait_with_output().expect("output"))
+}
+
+#[test]
+fn a_flat_grain_crushed_between_platens_does_not_depend_on_how_often_rows_are_written() {
+    // The step adaptation ran at output steps only: with output.every = 1 this crush finished
+    // in about a second, with the scene's 50 its contacts stiffened unseen for 50 steps, the
+    // step collapsed from 1.1e-7 s to 1.8e-12 s and the run never ended, without a word.
+    // What a run computes must not depend on how often it writes.
+    let dir = tempfile::tempdir().unwrap();
+    let scene = common::repo().join("scenes/crush_grain.toml");
+    let summary = |every: &str| {
+        let out = dir.path().join(format!("every_{every}"));
+        let every = format!("output.every={every}");
+        let args = [
+            "run",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+            "--threads",
+            "1",
+            "--set",
+            "sample.semi_axes=[1e-3,1e-3,1e-5,1e-5,1e-5,1e-5]",
+            "--set",
+            "sample.box=[4e-3,4e-3,1e-3]",
+            "--set",
+            "loading.end_displacement=1e-5",
+            "--set",
+            &every,
+        ];
+        let o = fractum_within(dir.path(), &args, 120.0)
+            .unwrap_or_else(|| panic!("{every}: still running after 120 s"));
+        assert!(
+            o.status.success(),
+            "{every}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let s: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join("summary.json")).unwrap()).unwrap();
+        s
+    };
+    let (every_row, every_50) = (summary("1"), summary("50"));
+    for key in [
+        "steps",
+        "time",
+        "dt",
+        "max_omega_dt",
+        "dt_shortened",
+        "kinetic_energy_final",
+        "contacts_final",
+        "fragments",
+        "broken_particles",
+    ] {
+        assert_eq!(every_row.get(key), every_50.get(key), "{key}");
+    }
+    assert!(every_row.get("steps").is_some() && every_row.get("dt").is_some());
+}
+
+/// A scene of a fracture run with the automatic step for one grain squeezed in a box (the tests
+/// place the grain and the walls), ending at `end_time`.
+fn squeezed_scene(end_time: f64) -> fractum::Scene {
+    let text = format!(
+        r#"
+name = "squeezed"
+effects = ["contact", "friction", "fracture"]
+[material]
+young = 60e9
+poisson = 0.17
+density = 2650.0
+friction = 0.5
+[sample]
+kind = "text"
+file = "unused.txt"
+[fracture]
+reference_strength = 1e30
+sigma_c = 1e30
+[loading]
+kind = "none"
+end_time = {end_time:e}
+[time]
+safety = 0.2
+[output]
+every = 1000
+"#
+    );
+    fractum::Scene::from_toml(&text, "squeezed", std::path::Path::new("."), &[]).unwrap()
+}
+
+/// One sphere of radius 1 mm overlapping each of the six walls of its box by `delta`.
+fn squeezed(end_time: f64, delta: f64) -> fractum::Result<Simulation> {
+    let r = 1e-3;
+    let mut b = Bodies::default();
+    b.push_sphere(Vec3::zeros(), r, RHO, UnitQuaternion::identity());
+    let h = r - delta;
+    let walls = Walls::new_box(Vec3::new(-h, -h, -h), Vec3::new(h, h, h));
+    Simulation::from_sample(squeezed_scene(end_time), common::sample(b, walls), 1)
+}
+
+#[test]
+fn a_step_that_collapses_past_the_step_limit_stops_the_run_naming_the_cause() {
+    // The limit of 1e9 steps was checked at the build only: a fracture run whose step the
+    // adaptation shortened (stiff contacts) planned more steps than that, and a step that
+    // collapsed left a run that went on for ever without a word. Here the build plans 0.9e9
+    // steps at the first step, and the grain's contacts with the walls ask a shorter one.
+    let delta = 0.3e-3;
+    let dt0 = squeezed(1e-3, delta).unwrap().clock.dt;
+    let mut sim = squeezed(0.9e9 * dt0, delta).unwrap();
+    // A fracture run with an automatic step checks it every STABILITY_EVERY steps.
+    let every = fractum::models::granular::STABILITY_EVERY;
+    let err = sim.advance(2 * every).unwrap_err().to_string();
+    assert!(
+        err.contains("the time step collapsed")
+            && err.contains("more than the limit of 1e9")
+            && err.contains("contact frequency"),
+        "{err}"
+    );
+    assert!(
+        sim.clock.step <= every,
+        "stopped at the first check: {}",
+        sim.clock.step
+    );
+}

@@ -395,12 +395,20 @@ pub extern "C" fn fractum_create_from_text(
 }
 
 /// Frees a simulation. The handle is invalid afterwards (using it gives FRACTUM_ERR_HANDLE).
+/// An advance call in progress on it in another thread stops before its next step (it returns
+/// FRACTUM_INTERRUPTED) and the run is dropped when it has.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_free(handle: FractumHandle) -> FractumStatus {
     guard(|| {
         let removed = registry().lock().map_err(|_| poisoned())?.remove(&handle);
         match removed {
-            Some(_) => Ok(()),
+            Some(slot) => {
+                // An advance call in progress on another thread holds the run until it ends:
+                // stop it before its next step, or an unbounded `fractum_advance_to` went on
+                // for ever on a handle nobody could reach any more.
+                slot.cancel.store(true, Ordering::Release);
+                Ok(())
+            }
             None => Err((
                 FRACTUM_ERR_HANDLE,
                 format!(
@@ -422,7 +430,10 @@ pub extern "C" fn fractum_model(handle: FractumHandle, kind: *mut *const c_char)
 }
 
 /// Takes up to `steps` steps of the run's own time step, never past the scene's end (so
-/// `UINT64_MAX` runs to the end; see `fractum_finished`). Series rows are recorded on the way
+/// `UINT64_MAX` runs to the end, also where the run shortens its step on the way; see
+/// `fractum_finished`). A run without an end of its own (faces driven from outside) refuses
+/// more than 1e9 steps in one call unless `fractum_set_call_limits` bounds it
+/// (FRACTUM_ERR_RUN). Series rows are recorded on the way
 /// as in `fractum run`: chunking a run into calls does not change it.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_advance(handle: FractumHandle, steps: u64) -> FractumStatus {
@@ -435,7 +446,8 @@ pub extern "C" fn fractum_advance(handle: FractumHandle, steps: u64) -> FractumS
 }
 
 /// Advances to exactly `time` (s), sub-stepping at the simulation's own time step and
-/// shortening the last sub-step to land on `time`. A run whose integrator takes whole steps
+/// shortening the last sub-step to land on `time`; never past the scene's end, as
+/// `fractum_advance` (a time beyond it stops there: `fractum_finished` says so). A run whose integrator takes whole steps
 /// only (beam2d with Gear5) refuses a time off its grid with FRACTUM_ERR_RUN before taking any step.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_advance_to(handle: FractumHandle, time: f64) -> FractumStatus {

@@ -230,10 +230,11 @@ fn with_instance(
     match catch_unwind(AssertUnwindSafe(|| f(inst))) {
         Ok(Ok(status)) => status,
         Ok(Err(message)) => {
+            // Shortened as the library's own errors are: a parameter of 10 MB came back whole.
             inst.log(
                 fmi2Status_fmi2Error,
                 "logStatusError",
-                &format!("{call}: {message}"),
+                &fractum::error::shorten(&format!("{call}: {message}")),
             );
             fmi2Status_fmi2Error
         }

@@ -1245,8 +1245,11 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             for s in self.pairs.row(i) {
                 let j = self.pairs.partners[s] as usize;
                 let (ri, rj) = (bodies.radius[i], bodies.radius[j]);
-                let delta = ri + rj - (bodies.pos[i] - bodies.pos[j]).norm();
-                if delta > 0.0 {
+                // Most listed pairs are apart (the list holds a skin): no root for them, as
+                // this runs after every step.
+                let d2 = (bodies.pos[i] - bodies.pos[j]).norm_squared();
+                if d2 < (ri + rj) * (ri + rj) {
+                    let delta = ri + rj - d2.sqrt();
                     let k = two_e * (ri * rj / (ri + rj) * delta).sqrt();
                     stiffness[i] += k;
                     stiffness[j] += k;
@@ -1327,13 +1330,31 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
         postcard::to_stdvec(&saved).expect("contact history serialises")
     }
 
-    fn restore(&mut self, data: &[u8]) -> Result<()> {
+    fn restore(&mut self, data: &[u8], bodies: usize) -> Result<()> {
         if !(FRIC || POLY) || data.is_empty() {
             return Ok(());
         }
         let saved: SavedHistory = postcard::from_bytes(data).map_err(|e| {
             Error::run(format!("the checkpoint's contact history is damaged ({e})"))
         })?;
+        // The histories go into the lists by body index: one past the bodies indexed a row
+        // that does not exist (a panic at the first step after a forged restore).
+        let n = bodies as u32;
+        let pairs = saved.pairs.iter().map(|&(i, j, _)| (i, j));
+        let normals = saved.normals.iter().map(|&(i, j, _)| (i, j));
+        let walls = saved.walls.iter().map(|&(_, i, _)| (i, 0));
+        let radii = saved.wall_radii.iter().map(|&(_, i, _)| (i, 0));
+        if let Some((i, j)) = pairs
+            .chain(normals)
+            .chain(walls)
+            .chain(radii)
+            .find(|&(i, j)| i >= n || j >= n)
+        {
+            return Err(Error::run(format!(
+                "the checkpoint's contact history names body {} of a state of {bodies} bodies",
+                i.max(j)
+            )));
+        }
         // Lists are rebuilt at the next evaluation; the histories go in then.
         self.pairs = PairList::new(self.pairs.skin);
         self.wall_lists = WallLists::default();
@@ -1471,7 +1492,7 @@ pub fn contact_load(
     let q = Matrix3::from_diagonal_element(root_t) + normal * normal.transpose() * (1.0 - root_t);
     let h = q * g * q * stiffness;
     let h = (h + h.transpose()) * 0.5;
-    crate::fracture::criteria::symmetric3_eigenvalues(&h)[0]
+    crate::fracture::criteria::symmetric3_largest_eigenvalue(&h)
 }
 
 /// One contact's share of a body's row (rad²/s²): its load on the body, `own`, plus its

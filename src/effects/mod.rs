@@ -54,8 +54,8 @@ pub trait Effect: Send {
     fn save(&self) -> Vec<u8> {
         Vec::new()
     }
-    /// Restores what [`Effect::save`] wrote.
-    fn restore(&mut self, _data: &[u8]) -> Result<()> {
+    /// Restores what [`Effect::save`] wrote, for a state of `bodies` bodies.
+    fn restore(&mut self, _data: &[u8], _bodies: usize) -> Result<()> {
         Ok(())
     }
     /// Length of the contact history this effect keeps (0 when it keeps none).
@@ -147,7 +147,7 @@ impl Pipeline {
             .collect()
     }
 
-    pub fn restore(&mut self, saved: &[(String, Vec<u8>)]) -> Result<()> {
+    pub fn restore(&mut self, saved: &[(String, Vec<u8>)], bodies: usize) -> Result<()> {
         if saved.len() != self.effects.len() {
             return Err(Error::run(
                 "the checkpoint's force pipeline does not match its scene",
@@ -160,7 +160,7 @@ impl Pipeline {
                     e.name()
                 )));
             }
-            e.restore(data)?;
+            e.restore(data, bodies)?;
         }
         Ok(())
     }

@@ -103,6 +103,23 @@ pub fn symmetric3_eigenvalues(a: &Matrix3<f64>) -> [f64; 3] {
     [s1, 3.0 * q - s1 - s3, s3]
 }
 
+/// The largest eigenvalue of the symmetric 3×3 `a`: `symmetric3_eigenvalues(a)[0]`, the same
+/// bits, without the third root's cosine (the frequency bound of the step adaptation, after
+/// every step, needs only this one).
+pub fn symmetric3_largest_eigenvalue(a: &Matrix3<f64>) -> f64 {
+    let p1 = a.m12 * a.m12 + a.m13 * a.m13 + a.m23 * a.m23;
+    let q = a.trace() / 3.0;
+    let p2 = (a.m11 - q).powi(2) + (a.m22 - q).powi(2) + (a.m33 - q).powi(2) + 2.0 * p1;
+    if p2 <= 1e-30 * q * q || p2 == 0.0 {
+        return q;
+    }
+    let p = (p2 / 6.0).sqrt();
+    let b = (a - Matrix3::identity() * q) / p;
+    let r = (0.5 * b.determinant()).clamp(-1.0, 1.0);
+    let phi = r.acos() / 3.0;
+    q + 2.0 * p * phi.cos()
+}
+
 /// Whether the tension-positive `stress` may fail Hoek–Brown (σc `sigma_c`, `mi`): false only
 /// when it certainly does not, from bounds on its principal values that need no eigenvalues.
 /// With q the mean and p = ‖dev‖_F / √6 of the compression-positive stress, the principal values
@@ -176,6 +193,28 @@ pub fn weibull_factor(p: f64, w: f64, x: f64, x_m: f64) -> f64 {
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// The largest eigenvalue alone is the first of the three, bit for bit.
+    #[test]
+    fn the_largest_eigenvalue_alone_is_the_first_of_the_three() {
+        let mut seed = 11u64;
+        let mut draw = move || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        for case in 0..10_000 {
+            let mut m = Matrix3::from_fn(|_, _| draw());
+            m = (m + m.transpose()) * 0.5;
+            if case % 3 == 0 {
+                m = Matrix3::identity() * draw();
+            }
+            let all = symmetric3_eigenvalues(&m);
+            let top = symmetric3_largest_eigenvalue(&m);
+            assert_eq!(top.to_bits(), all[0].to_bits(), "{m}");
+        }
+    }
 
     /// The bound never says "cannot fail" of a stress that fails: random stresses around the
     /// Hoek–Brown surface (hydrostatic to deviatoric, compressive to past the tensile cut-off,

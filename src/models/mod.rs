@@ -291,7 +291,16 @@ pub fn restore(scene: Scene, state: &[u8], threads: usize) -> Result<Box<dyn Run
 /// Restores the run a checkpoint file holds, with the VTK frames it had written.
 pub fn resume(path: &Path, threads: usize) -> Result<(Box<dyn Run>, Vec<crate::output::Frame>)> {
     let saved = crate::output::checkpoint::load(path)?;
-    Ok((restore(saved.scene, &saved.state, threads)?, saved.frames))
+    // A state that passed the seal but cannot be stepped (a NaN inside, an index past the
+    // bodies) is a bad checkpoint: the user's input, named by its file.
+    let run = restore(saved.scene, &saved.state, threads).map_err(|e| match e {
+        Error::Run(why) => Error::input(
+            path.display().to_string(),
+            format!("is not a usable checkpoint: {why}"),
+        ),
+        other => other,
+    })?;
+    Ok((run, saved.frames))
 }
 
 /// `fractum explain`: what a scene will build, without building the sample.

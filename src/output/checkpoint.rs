@@ -11,7 +11,7 @@ use super::Frame;
 use super::sealed::{self, Refused};
 use crate::error::{Error, Result};
 use crate::run::Run;
-use crate::scene::{Scene, io_reason};
+use crate::scene::{Scene, read_regular};
 
 const MAGIC: &[u8; 8] = b"FRACTUM\x02";
 /// The magic of format 3 and before (unsealed).
@@ -21,8 +21,13 @@ const OLD_MAGIC: &[u8; 8] = b"FRACTUM\x01";
 /// Brazilian loading its arcs' pressure.
 /// 7: fracture constants gained `weibull_sigma_c`; the size distributions hold each piece's
 /// equivalent diameter of its own volume beside its mass.
-/// 8: grain fracture keeps the seed of its keyed draws instead of a sequential stream.
+/// 8: the run's state names the scene it belongs to, and is refused under another; grain
+/// fracture keeps the seed of its keyed draws instead of a sequential stream.
 const FORMAT_VERSION: u32 = 8;
+
+/// The most bytes a checkpoint file may hold (64 GiB: a million poly-ellipsoids with their
+/// springs and histories take about 1 GiB).
+const CHECKPOINT_LIMIT: u64 = 64 << 30;
 
 #[derive(Serialize, Deserialize)]
 struct Checkpoint {
@@ -107,11 +112,7 @@ pub fn decode(bytes: &[u8], origin: &str) -> Result<Saved> {
 /// Reads a checkpoint file.
 pub fn load(path: &Path) -> Result<Saved> {
     let origin = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| {
-        Error::input(
-            &origin,
-            format!("cannot read the checkpoint ({})", io_reason(&e)),
-        )
-    })?;
+    let bytes = read_regular(path, "checkpoint", CHECKPOINT_LIMIT)
+        .map_err(|why| Error::input(&origin, why))?;
     decode(&bytes, &origin)
 }

@@ -11,8 +11,9 @@
 //!              model.step(clock, dt)          the physics of one step
 //!              clock: step + 1, time + dt
 //!              model.after_step(clock)        e.g. granular fracture, which may shorten dt
+//!              finite? -> model.fault -> model.check_step (stability, step adaptation)
 //!              at output steps (every `output.every`, the last, and those the model asks):
-//!                finite? -> model.at_output -> series row -> model.after_row
+//!                series row -> model.after_row
 //! ```
 
 use std::sync::Arc;
@@ -47,6 +48,10 @@ pub struct Clock {
 /// 18446744073709551615 steps and run forever.
 pub const MAX_STEPS: f64 = 1e9;
 
+/// The fewest steps a run under `time.dt = "auto"` may plan to its end: its step may be at most
+/// half the loading, so that the end is overshot by at most half of it.
+pub const MIN_STEPS: f64 = 2.0;
+
 /// Refuses a loading of `end_time` seconds at steps of `dt` seconds that needs more than
 /// [`MAX_STEPS`] steps, naming `time.dt`; an endless loading (driven from outside) passes.
 pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> {
@@ -54,18 +59,46 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
         return Ok(());
     }
     let steps = end_time / dt;
+    let auto = matches!(scene.time.dt, crate::scene::DtSpec::Auto);
+    // The critical step scales as 1/sqrt(young) in every model.
+    let young = scene
+        .tables
+        .get("material")
+        .and_then(|m| m.get("young"))
+        .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
+    if auto && steps.is_finite() && steps < MIN_STEPS && end_time > 0.0 {
+        // A step across most of the loading is no run: shpb_sand with a Young's modulus of
+        // 1e3 Pa and a short loading took one step to 7 times its end strain and exited 0
+        // with a 72% energy error, and the advice named time.safety where the modulus was at
+        // fault. Under "auto" the user did not choose the step: the material (or the
+        // loading) is at fault. A step given in seconds is the user's own, and tests give a
+        // long one on purpose to see a run go unstable.
+        let longest = end_time / MIN_STEPS;
+        return Err(match young {
+            Some(young) => scene.key_error(
+                "material.young",
+                format!(
+                    "= {young:e} Pa is too soft for this loading under time.dt = \"auto\": the step comes out as {dt:.3e} s, and the loading (its end at {end_time:.3e} s) would take {steps:.2} steps, fewer than {MIN_STEPS}; allowed: material.young >= {:.3e} Pa at this loading and time.safety, or a loading that lasts at least {:.3e} s",
+                    young * (dt / longest).powi(2),
+                    dt * MIN_STEPS
+                ),
+            ),
+            None => scene.key_error(
+                "time.safety",
+                format!(
+                    "= {} gives a step of {dt:.3e} s, and the loading (its end at {end_time:.3e} s) would take {steps:.2} steps, fewer than {MIN_STEPS}; allowed: time.safety <= {:.3e} at this loading",
+                    scene.time.safety,
+                    scene.time.safety * longest / dt
+                ),
+            ),
+        });
+    }
     if steps.is_finite() && steps <= MAX_STEPS {
         return Ok(());
     }
-    let auto = matches!(scene.time.dt, crate::scene::DtSpec::Auto);
     if auto && !dt.is_normal() {
         // The critical step scales as 1/sqrt(young): a modulus near the largest double gives a
         // zero or denormal step, and "time.dt = 0 s needs inf steps" blamed the wrong key.
-        let young = scene
-            .tables
-            .get("material")
-            .and_then(|m| m.get("young"))
-            .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
         if let Some(young) = young {
             return Err(scene.key_error(
                 "material.young",
@@ -183,9 +216,13 @@ pub trait Model: Send + Sized {
     fn output_due(&self, _clock: &Clock) -> bool {
         false
     }
-    /// At every output step, once the state is known to be finite and before the row:
-    /// stability checks and step adaptation.
-    fn at_output(
+    /// After every step, once the state is known to be finite and before any row: stability
+    /// checks and step adaptation. Every step, not at output steps only: a granular run that
+    /// adapted its step at output steps only took 50 steps between checks with the scene's
+    /// `output.every = 50`, its contacts stiffened unseen, and its step collapsed from
+    /// 1.1e-7 s to 1.8e-12 s (a run that never ended) where `output.every = 1` finished in
+    /// 1.3 s: the result depended on how often one wrote output.
+    fn check_step(
         &mut self,
         _scene: &Scene,
         _clock: &mut Clock,
@@ -282,7 +319,8 @@ pub trait Run: Send {
     fn finished(&self) -> bool;
     /// Takes up to `steps` steps (never past the end), recording series rows on the way.
     fn advance(&mut self, steps: u64) -> Result<()>;
-    /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
+    /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it;
+    /// never past the end (a time beyond it stops there, as `advance` does).
     fn advance_to(&mut self, time: f64) -> Result<()>;
     /// The rows of series.csv so far.
     fn series(&self) -> &Series;
@@ -331,6 +369,13 @@ pub struct CallLimits {
     pub max_seconds: f64,
     /// Set to stop the call in progress, or the next one, before its next step.
     pub cancel: Option<Arc<AtomicBool>>,
+}
+
+impl CallLimits {
+    /// Whether a call ends by itself, whatever the run: a bound on its steps or its time.
+    fn bounded(&self) -> bool {
+        self.max_steps > 0 || self.max_seconds > 0.0
+    }
 }
 
 /// One call's account against its [`CallLimits`].
@@ -387,12 +432,63 @@ const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// 2: dlsm states gained the Brazilian platens, the drop's size and the ground's total force.
 /// 3: the ground contact gained its surface (plane or jaw), velocity and reach, the
 /// Brazilian loading its arcs' pressure.
-/// 4: grain fracture keeps the seed of its keyed draws instead of a sequential stream.
+/// 4: the state names the scene it belongs to ([`SceneIdentity`]); grain fracture keeps the
+/// seed of its keyed draws instead of a sequential stream.
 const STATE_VERSION: u32 = 4;
+
+/// Which scene a saved state belongs to: a state restored under another scene took that
+/// scene's parameters with its own bodies (a dlsm state of E = 1 GPa went on under a handle of
+/// 20 GPa, a granular state of 58 bodies into a handle of 101, without a word).
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+pub struct SceneIdentity {
+    /// `model.kind`, the scene's name and seed, and its effects (the FMU's fracture switch
+    /// among them): what the refusal names.
+    pub model: String,
+    pub name: String,
+    pub seed: u64,
+    pub effects: Vec<String>,
+    /// FNV-1a of everything that makes the run: the model, seed, effects, time and gravity
+    /// keys and the model's own tables, overrides applied (not the output keys, nor comments
+    /// and layout of the file).
+    pub hash: u64,
+}
+
+impl SceneIdentity {
+    pub fn of(scene: &Scene) -> SceneIdentity {
+        let effects: Vec<String> = scene.effects.iter().map(|e| e.as_str().into()).collect();
+        let tables = toml::to_string(&scene.tables).unwrap_or_default();
+        let text = format!(
+            "{}\n{}\n{:?}\n{:?}\n{:?}\n{tables}",
+            scene.model.kind, scene.seed, effects, scene.time, scene.gravity
+        );
+        SceneIdentity {
+            model: scene.model.kind.clone(),
+            name: scene.name.clone(),
+            seed: scene.seed,
+            effects,
+            hash: crate::output::sealed::checksum(text.as_bytes()),
+        }
+    }
+}
+
+impl std::fmt::Display for SceneIdentity {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "a {} run of scene \"{}\" (seed {}, effects [{}], scene hash {:016x})",
+            self.model,
+            self.name,
+            self.seed,
+            self.effects.join(", "),
+            self.hash
+        )
+    }
+}
 
 /// The runner's part of a checkpoint; the model's own bytes ride along.
 #[derive(Serialize, Deserialize)]
 struct RunnerState {
+    scene: SceneIdentity,
     clock: Clock,
     series: Series,
     warnings: Vec<String>,
@@ -481,8 +577,36 @@ impl<M: Model> Runner<M> {
                 M::KIND
             ))
         })?;
+        let ours = SceneIdentity::of(&scene);
+        if s.scene != ours {
+            let differs = if s.scene.name == ours.name && s.scene.seed == ours.seed {
+                " with other keys or overrides"
+            } else {
+                ""
+            };
+            return Err(Error::run(format!(
+                "the saved state belongs to another scene: it is the state of {}, this run is {ours}{differs}; restore a state into a run of the scene that saved it",
+                s.scene
+            )));
+        }
+        let c = &s.clock;
+        if !(c.time.is_finite() && c.time >= 0.0 && c.dt.is_finite() && c.dt > 0.0) {
+            return Err(Error::run(format!(
+                "the saved {} state is inconsistent: its clock reads t = {:e} s with a step of {:e} s (a finite time from 0 and a positive finite step expected)",
+                M::KIND,
+                c.time,
+                c.dt
+            )));
+        }
         let threads = Threads::new(threads)?;
         let model = threads.run(false, || M::restore(&scene, &s.model))?;
+        if let Some(i) = model.first_non_finite() {
+            return Err(Error::run(format!(
+                "the saved {} state is inconsistent: {} {i} has a non-finite position or velocity",
+                M::KIND,
+                M::BODY
+            )));
+        }
         Ok(Runner {
             scene,
             clock: s.clock,
@@ -539,13 +663,17 @@ impl<M: Model> Runner<M> {
     /// Takes up to `steps` steps (never past the end), recording series rows on the way.
     /// Fails when the state stops being finite.
     pub fn advance(&mut self, steps: u64) -> Result<()> {
-        let target = self
-            .clock
-            .step
-            .saturating_add(steps)
-            .min(self.clock.end_step);
+        // The end is read at every step, not once per call: a run that shortens its step
+        // (granular fracture) moves its end step later while it advances, and a call for
+        // `u64::MAX` steps stopped at the old end and returned with the run unfinished.
+        let target = self.clock.step.saturating_add(steps);
+        if self.clock.end_step == u64::MAX && steps as f64 > MAX_STEPS && !self.limits.bounded() {
+            return Err(Error::run(format!(
+                "cannot take {steps} steps in one call: this run has no end of its own (its faces are driven from outside) and more than the limit of 1e9 steps would run for days; advance by fewer steps, advance to a time, or bound the call (max_steps, max_seconds)"
+            )));
+        }
         self.stepping(|run, budget| {
-            if run.clock.step >= target || run.model.stopped() {
+            if run.clock.step >= target.min(run.clock.end_step) || run.model.stopped() {
                 return Ok(false);
             }
             budget.before_step(&run.clock)?;
@@ -557,7 +685,8 @@ impl<M: Model> Runner<M> {
 
     /// Advances to exactly `time` (s): whole steps, then one shorter step that lands on it.
     /// The step size, not the distance to `time`, sets the accuracy. Series rows are recorded
-    /// as in [`Runner::advance`].
+    /// as in [`Runner::advance`]. Never past the end, as [`Runner::advance`]: a time beyond it
+    /// stops at the end step ([`Runner::finished`]), short of `time`.
     pub fn advance_to(&mut self, time: f64) -> Result<()> {
         if !time.is_finite() || time < self.clock.time {
             return Err(Error::run(format!(
@@ -579,7 +708,9 @@ impl<M: Model> Runner<M> {
         // A remainder below this is rounding, not a step to take.
         let tiny = 1e-9 * self.clock.dt;
         self.stepping(|run, budget| {
-            if time - run.clock.time <= tiny || run.model.stopped() {
+            // The scene's end stops it as it stops `advance`: a time past the end used to drive
+            // the loading on beyond it (platens past their end displacement).
+            if time - run.clock.time <= tiny || run.finished() {
                 return Ok(false);
             }
             budget.before_step(&run.clock)?;
@@ -605,8 +736,9 @@ impl<M: Model> Runner<M> {
 
     /// After every step: check the state is finite (a pass over the bodies, cheap beside the
     /// step; at output steps only, a run driven with a long output interval went on stepping
-    /// NaN and reported success). At output steps: let the model check its stability, and
-    /// record a series row.
+    /// NaN and reported success), and let the model check its stability and adapt its step
+    /// ([`Model::check_step`]). At output steps: record a series row. What a run computes
+    /// does not depend on `output.every`, only what it writes.
     fn after_step(&mut self) -> Result<()> {
         if let Some(i) = self.model.first_non_finite() {
             return Err(Error::run(format!(
@@ -623,6 +755,8 @@ impl<M: Model> Runner<M> {
                 self.clock.step, self.clock.time
             )));
         }
+        self.model
+            .check_step(&self.scene, &mut self.clock, &mut self.warnings)?;
         let c = &self.clock;
         let due = c.step % self.scene.output.every == 0
             || c.step == c.end_step
@@ -631,8 +765,6 @@ impl<M: Model> Runner<M> {
         if !due {
             return Ok(());
         }
-        self.model
-            .at_output(&self.scene, &mut self.clock, &mut self.warnings)?;
         self.record_row()?;
         self.model.after_row(&self.clock, &self.series);
         Ok(())
@@ -720,6 +852,7 @@ impl<M: Model> Run for Runner<M> {
     }
     fn save_state(&self) -> Vec<u8> {
         let state = RunnerState {
+            scene: SceneIdentity::of(&self.scene),
             clock: self.clock,
             series: self.series.clone(),
             warnings: self.warnings.clone(),

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use crate::scene::io_reason;
+use crate::scene::read_regular;
 use crate::state::Vec3;
 
 /// Spheres read from a file, with the container bounds when the file gives them.
@@ -16,8 +16,8 @@ pub struct Packing {
 }
 
 fn read(path: &Path) -> Result<String, String> {
-    std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read the packing file ({})", io_reason(&e)))
+    let bytes = read_regular(path, "packing file", 16 << 30)?;
+    String::from_utf8(bytes).map_err(|_| "is not text: a packing file holds numbers".to_string())
 }
 
 fn number(tok: &str, line: usize, what: &str) -> Result<f64, String> {

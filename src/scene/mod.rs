@@ -267,12 +267,10 @@ impl Scene {
     /// model's own keys are checked by `Scene::load` (the registry, `crate::models`).
     pub fn read(path: &Path, overrides: &[String]) -> Result<Scene> {
         let label = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| {
-            Error::input(
-                &label,
-                format!("cannot read the scene file ({})", io_reason(&e)),
-            )
-        })?;
+        let bytes = read_regular(path, "scene file", SCENE_FILE_LIMIT)
+            .map_err(|why| Error::input(&label, why))?;
+        let text = String::from_utf8(bytes)
+            .map_err(|_| Error::input(&label, "is not text: a scene file is UTF-8 TOML"))?;
         let dir = path
             .parent()
             .map(Path::to_path_buf)
@@ -369,6 +367,47 @@ impl Scene {
 }
 
 /// The short reason of an I/O error, without the "(os error 2)" noise.
+/// The bytes of the regular file at `path`, at most `limit` of them; `what` names the file
+/// in the reason ("scene file"). A FIFO given as a scene or checkpoint blocked for ever and
+/// `/dev/zero` was read until memory ran out: anything but a regular file is refused before
+/// it is opened, and a file that holds or grows past `limit` bytes is refused.
+pub(crate) fn read_regular(
+    path: &Path,
+    what: &str,
+    limit: u64,
+) -> std::result::Result<Vec<u8>, String> {
+    use std::io::Read;
+    let cannot = |e: std::io::Error| format!("cannot read the {what} ({})", io_reason(&e));
+    let meta = std::fs::metadata(path).map_err(cannot)?;
+    if !meta.is_file() {
+        let kind = if meta.is_dir() {
+            "a folder"
+        } else {
+            "not a regular file (a FIFO, socket or device)"
+        };
+        return Err(format!("is {kind}: a {what} must be a regular file"));
+    }
+    let too_big = |size: String| {
+        format!(
+            "holds {size} bytes, more than the {limit} bytes a {what} may hold: is this the file meant?"
+        )
+    };
+    if meta.len() > limit {
+        return Err(too_big(meta.len().to_string()));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    std::fs::File::open(path)
+        .and_then(|f| f.take(limit + 1).read_to_end(&mut bytes))
+        .map_err(cannot)?;
+    if bytes.len() as u64 > limit {
+        return Err(too_big(format!("more than {limit}")));
+    }
+    Ok(bytes)
+}
+
+/// The most bytes a scene file may hold (64 MiB: the largest shipped scene is a few kB).
+pub const SCENE_FILE_LIMIT: u64 = 64 << 20;
+
 pub(crate) fn io_reason(e: &std::io::Error) -> String {
     match e.kind() {
         std::io::ErrorKind::NotFound => "no such file".to_string(),

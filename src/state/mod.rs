@@ -64,6 +64,41 @@ impl Bodies {
         check_lengths(n, &lens)
     }
 
+    /// Whether every value of every body is one a step can start from: finite positions,
+    /// velocities, spins, orientations and inertias, positive finite radii and masses (a
+    /// restored state is checked before it is stepped: a NaN centre sent the neighbour search
+    /// to a cell outside its grid and panicked); the first that is not, named.
+    pub fn check_values(&self) -> std::result::Result<(), String> {
+        let finite3 = |v: &Vec3| v.iter().all(|x| x.is_finite());
+        for i in 0..self.len() {
+            let q = &self.orientation[i];
+            let bad = if !finite3(&self.pos[i]) {
+                Some("position")
+            } else if !finite3(&self.vel[i]) {
+                Some("velocity")
+            } else if !finite3(&self.omega[i]) {
+                Some("angular velocity")
+            } else if !q.coords.iter().all(|x| x.is_finite()) {
+                Some("orientation")
+            } else if !(self.radius[i].is_finite() && self.radius[i] > 0.0) {
+                Some("radius")
+            } else if !(self.mass[i].is_finite() && self.mass[i] > 0.0) {
+                Some("mass")
+            } else if !(self.inv_mass[i].is_finite()
+                && finite3(&self.inertia[i])
+                && finite3(&self.inv_inertia[i]))
+            {
+                Some("inverse mass or inertia")
+            } else {
+                None
+            };
+            if let Some(what) = bad {
+                return Err(format!("body {i} has a non-finite or non-positive {what}"));
+            }
+        }
+        Ok(())
+    }
+
     /// Adds a sphere at rest.
     pub fn push_sphere(
         &mut self,

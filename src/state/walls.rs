@@ -92,6 +92,21 @@ impl Walls {
         self.walls.len()
     }
 
+    /// Whether every wall's point, normal, velocity and force are finite (a restored state
+    /// is checked before it is stepped); the first that is not, named.
+    pub fn check_values(&self) -> std::result::Result<(), String> {
+        for w in &self.walls {
+            let finite = [w.point, w.normal, w.velocity, w.force]
+                .iter()
+                .all(|v| v.iter().all(|x| x.is_finite()))
+                && w.stiffness.is_finite();
+            if !finite {
+                return Err(format!("wall {} has a non-finite value", w.label));
+            }
+        }
+        Ok(())
+    }
+
     pub fn is_empty(&self) -> bool {
         self.walls.is_empty()
     }

@@ -453,6 +453,47 @@ def test_a_state_of_an_instance_configured_otherwise_is_refused(unzipped, capfd)
         fmu.terminate()
         fmu.freeInstance()
 
+def fnv1a(data):
+    h = 0xcbf29ce484222325
+    for b in data:
+        h = ((h ^ b) * 0x100000001b3) & 0xFFFFFFFFFFFFFFFF
+    return h
+
+
+def test_a_state_whose_variables_were_made_to_match_is_refused_by_its_scene(unzipped, capfd):
+    # The configuration check compares the variables a state says it was built with: a state of
+    # seed 2 whose seed byte was rewritten to 1 (and sealed again) passed it and carried the
+    # specimen of seed 2 into an instance of seed 1. The specimen's own state names the scene
+    # it belongs to, and is refused under another.
+    home = configured(unzipped, "home_scene")
+    other = configured(unzipped, "other_scene", seed=2)
+    for fmu in [home, other]:
+        run(fmu, 0.0, 1e-6, 1)
+    before = home.getReal(OUTPUTS) + home.getInteger([BROKEN_PARTICLES])
+    state = other.getFMUState()
+    data = bytearray(other.serializeFMUState(state))
+    # Header (magic, version, length: 20 bytes), the phase (1 byte), four Reals (32 bytes),
+    # then the seed as a zigzag varint: 2 -> 4.
+    seed_at = 20 + 1 + 32
+    assert data[seed_at] == 4
+    data[seed_at] = 2
+    data[-8:] = fnv1a(bytes(data[:-8])).to_bytes(8, "little")
+    forged = home.deserializeFMUState(bytes(data))
+    capfd.readouterr()
+    with pytest.raises(FMICallException) as e:
+        home.setFMUState(forged)
+    assert e.value.status == FMI2_ERROR
+    log = capfd.readouterr().out
+    assert "fmi2SetFMUstate" in log and "belongs to another scene" in log, log
+    assert "seed 2" in log and "seed 1" in log, log
+    assert home.getReal(OUTPUTS) + home.getInteger([BROKEN_PARTICLES]) == before
+    home.freeFMUState(forged)
+    other.freeFMUState(state)
+    for fmu in [home, other]:
+        fmu.terminate()
+        fmu.freeInstance()
+
+
 def test_an_empty_resource_location_falls_back_to_the_fmus_own_resources(unzipped):
     import ctypes
 

@@ -844,8 +844,9 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         let _ = writeln!(s, "{line}");
     }
     let fracture = plan.has(EffectKind::Fracture);
-    // Fractum shortens a fracture run's step as pieces stiffen (time.dt = "auto"); the plugin
-    // does the same (adapt_dt), so the run ends at Fractum's end time, not after a step count.
+    // Fractum shortens a fracture run's step as pieces stiffen (time.dt = "auto"), checked
+    // every STABILITY_EVERY steps; the plugin does the same (adapt_dt), so the run ends at
+    // Fractum's end time, not after a step count.
     let adapt = fracture && sim.model.auto_dt;
     if let Some(f) = st.fracture.as_ref().filter(|_| fracture) {
         let p = &f.params;
@@ -871,7 +872,8 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         if adapt {
             let _ = write!(
                 line,
-                " adapt_dt {every} adapt_omega_dt {:e}",
+                " adapt_dt {} adapt_omega_dt {:e}",
+                super::STABILITY_EVERY,
                 sim.model.adapt_omega_dt
             );
         }
