@@ -1240,7 +1240,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             return 0.0;
         }
         let two_e = 2.0 * self.params.hertz.e_eff;
-        let mut stiffness = vec![0.0; bodies.len()];
+        let mut stiffness = take_rows(bodies.len());
         for i in 0..bodies.len() {
             for s in self.pairs.row(i) {
                 let j = self.pairs.partners[s] as usize;
@@ -1270,11 +1270,13 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
                 }
             }
         }
-        stiffness
+        let highest = stiffness
             .iter()
             .zip(&bodies.inv_mass)
             .map(|(k, inv_m)| (2.0 * k * inv_m).sqrt())
-            .fold(0.0, f64::max)
+            .fold(0.0, f64::max);
+        give_rows(stiffness);
+        highest
     }
 
     fn save(&self) -> Vec<u8> {
@@ -1367,6 +1369,25 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
     }
 }
 
+thread_local! {
+    /// The per-body sums of the frequency estimates, kept between calls: the estimate runs
+    /// after every step, and a step allocates nothing (tests/step_allocations.rs).
+    static ROWS: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// The kept per-body sums, `n` zeros (hand them back with [`give_rows`]).
+fn take_rows(n: usize) -> Vec<f64> {
+    let mut rows = ROWS.with(|r| std::mem::take(&mut *r.borrow_mut()));
+    rows.clear();
+    rows.resize(n, 0.0);
+    rows
+}
+
+/// Keeps `rows` for the next estimate.
+fn give_rows(rows: Vec<f64>) {
+    ROWS.with(|r| *r.borrow_mut() = rows);
+}
+
 /// A bound on the highest frequency (rad/s) of the recorded contacts' linearised springs,
 /// translation and rotation (block Gershgorin over the bodies, docs/performance.md): each
 /// contact loads each of its bodies by [`contact_load`], a body's row sums its contacts'
@@ -1374,7 +1395,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
 /// equal spheres (`sqrt(2 k / m)`); within 1.3-1.5x of the computed highest frequency
 /// ([`records_highest_frequency`]) in the main job.
 pub fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential: f64) -> f64 {
-    let mut rows = vec![0.0; bodies.len()];
+    let mut rows = take_rows(bodies.len());
     let load = |i: usize, r: &ContactRecord| {
         contact_load(
             &r.point,
@@ -1400,7 +1421,9 @@ pub fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangent
             }
         }
     }
-    rows.iter().map(|&x| frequency_bound(x)).fold(0.0, f64::max)
+    let highest = rows.iter().map(|&x| frequency_bound(x)).fold(0.0, f64::max);
+    give_rows(rows);
+    highest
 }
 
 /// The highest frequency (rad/s) of the recorded contacts' linearised springs, computed rather
