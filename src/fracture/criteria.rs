@@ -88,36 +88,41 @@ pub fn principal_compression_values(stress: &Matrix3<f64>) -> [f64; 3] {
 /// The eigenvalues of the symmetric 3×3 `a` (its upper triangle is read), largest first, in
 /// closed form (the trigonometric solution of the characteristic cubic).
 pub fn symmetric3_eigenvalues(a: &Matrix3<f64>) -> [f64; 3] {
-    let p1 = a.m12 * a.m12 + a.m13 * a.m13 + a.m23 * a.m23;
-    let q = a.trace() / 3.0;
-    let p2 = (a.m11 - q).powi(2) + (a.m22 - q).powi(2) + (a.m33 - q).powi(2) + 2.0 * p1;
-    if p2 <= 1e-30 * q * q || p2 == 0.0 {
-        return [q; 3];
+    match trigonometric_form(a) {
+        Err(q) => [q; 3],
+        Ok((q, p, phi)) => {
+            let s1 = q + 2.0 * p * phi.cos();
+            let s3 = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
+            [s1, 3.0 * q - s1 - s3, s3]
+        }
     }
-    let p = (p2 / 6.0).sqrt();
-    let b = (a - Matrix3::identity() * q) / p;
-    let r = (0.5 * b.determinant()).clamp(-1.0, 1.0);
-    let phi = r.acos() / 3.0;
-    let s1 = q + 2.0 * p * phi.cos();
-    let s3 = q + 2.0 * p * (phi + 2.0 * std::f64::consts::FRAC_PI_3).cos();
-    [s1, 3.0 * q - s1 - s3, s3]
 }
 
 /// The largest eigenvalue of the symmetric 3×3 `a`: `symmetric3_eigenvalues(a)[0]`, the same
 /// bits, without the third root's cosine (the frequency bound of the step adaptation, after
 /// every step, needs only this one).
 pub fn symmetric3_largest_eigenvalue(a: &Matrix3<f64>) -> f64 {
+    match trigonometric_form(a) {
+        Err(q) => q,
+        Ok((q, p, phi)) => q + 2.0 * p * phi.cos(),
+    }
+}
+
+/// The mean `q`, the deviatoric scale `p` and the angle `phi` of the eigenvalues
+/// `q + 2 p cos(phi + 2πk/3)` of the symmetric `a`; `Err(q)` when `a` is isotropic to rounding
+/// (all three equal `q`).
+#[inline]
+fn trigonometric_form(a: &Matrix3<f64>) -> std::result::Result<(f64, f64, f64), f64> {
     let p1 = a.m12 * a.m12 + a.m13 * a.m13 + a.m23 * a.m23;
     let q = a.trace() / 3.0;
     let p2 = (a.m11 - q).powi(2) + (a.m22 - q).powi(2) + (a.m33 - q).powi(2) + 2.0 * p1;
     if p2 <= 1e-30 * q * q || p2 == 0.0 {
-        return q;
+        return Err(q);
     }
     let p = (p2 / 6.0).sqrt();
     let b = (a - Matrix3::identity() * q) / p;
     let r = (0.5 * b.determinant()).clamp(-1.0, 1.0);
-    let phi = r.acos() / 3.0;
-    q + 2.0 * p * phi.cos()
+    Ok((q, p, r.acos() / 3.0))
 }
 
 /// Whether the tension-positive `stress` may fail Hoek–Brown (σc `sigma_c`, `mi`): false only
@@ -194,16 +199,20 @@ mod tests {
     use super::*;
     use std::f64::consts::PI;
 
-    /// The largest eigenvalue alone is the first of the three, bit for bit.
-    #[test]
-    fn the_largest_eigenvalue_alone_is_the_first_of_the_three() {
-        let mut seed = 11u64;
-        let mut draw = move || {
+    /// Uniform variates in [-0.5, 0.5) from a linear congruential generator seeded `seed`.
+    fn centred_uniforms(mut seed: u64) -> impl FnMut() -> f64 {
+        move || {
             seed = seed
                 .wrapping_mul(6364136223846793005)
                 .wrapping_add(1442695040888963407);
             (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        }
+    }
+
+    /// The largest eigenvalue alone is the first of the three, bit for bit.
+    #[test]
+    fn the_largest_eigenvalue_alone_is_the_first_of_the_three() {
+        let mut draw = centred_uniforms(11);
         for case in 0..10_000 {
             let mut m = Matrix3::from_fn(|_, _| draw());
             m = (m + m.transpose()) * 0.5;
@@ -223,13 +232,7 @@ mod tests {
     #[test]
     fn hoek_brown_bound_never_hides_a_failure() {
         let (sc, mi) = (592e6, 20.56);
-        let mut seed = 7u64;
-        let mut draw = move || {
-            seed = seed
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut draw = centred_uniforms(7);
         let (mut failing, mut skipped, mut inside) = (0, 0, 0);
         for case in 0..200_000 {
             let scale = sc * [0.01, 0.1, 0.5, 1.0, 3.0][case % 5];
