@@ -838,8 +838,8 @@ enum FractumStatus fractum_kernel_adapted_step(double sum, double dt, double tar
 // Fractum's check of a step against its contacts, as its granular run makes it: with `sum`
 // the largest row of the frequency bound over all bodies (as for
 // `fractum_kernel_adapted_step`), `*omega_dt` = omega dt and `*verdict` = 2 when the step is
-// unstable (omega dt above `granular::OMEGA_DT_LIMIT`, 2: the run stops), 1 when contacts are
-// resolved by few steps (above `OMEGA_DT_WARN`, 1.6: a warning), else 0.
+// unstable (`granular::step_verdict`: omega dt above 2, the run stops), 1 when contacts are
+// resolved by few steps (above 1.6: a warning), else 0.
 enum FractumStatus fractum_kernel_step_check(double sum,
                                              double dt,
                                              double *omega_dt,

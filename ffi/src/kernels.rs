@@ -1854,8 +1854,8 @@ pub extern "C" fn fractum_kernel_adapted_step(
 /// Fractum's check of a step against its contacts, as its granular run makes it: with `sum`
 /// the largest row of the frequency bound over all bodies (as for
 /// `fractum_kernel_adapted_step`), `*omega_dt` = omega dt and `*verdict` = 2 when the step is
-/// unstable (omega dt above `granular::OMEGA_DT_LIMIT`, 2: the run stops), 1 when contacts are
-/// resolved by few steps (above `OMEGA_DT_WARN`, 1.6: a warning), else 0.
+/// unstable (`granular::step_verdict`: omega dt above 2, the run stops), 1 when contacts are
+/// resolved by few steps (above 1.6: a warning), else 0.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_step_check(
     sum: f64,
@@ -1867,13 +1867,11 @@ pub extern "C" fn fractum_kernel_step_check(
         input_if(!(sum >= 0.0 && dt > 0.0 && dt.is_finite()))?;
         let (omega_dt, verdict) = (get_mut(omega_dt)?, get_mut(verdict)?);
         *omega_dt = fractum::effects::contact::frequency_bound(sum) * dt;
-        use fractum::models::granular::{OMEGA_DT_LIMIT, OMEGA_DT_WARN};
-        *verdict = if *omega_dt > OMEGA_DT_LIMIT {
-            2
-        } else if *omega_dt > OMEGA_DT_WARN {
-            1
-        } else {
-            0
+        use fractum::models::granular::{StepVerdict, step_verdict};
+        *verdict = match step_verdict(*omega_dt) {
+            StepVerdict::Fine => 0,
+            StepVerdict::Coarse => 1,
+            StepVerdict::Unstable => 2,
         };
         Ok(())
     })

@@ -148,7 +148,29 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
 const TEAM_MIN_SPHERES_PER_THREAD: usize = 1500;
 
 /// Above this estimated `ω dt` a run stops, above the second it warns.
-pub const OMEGA_DT_LIMIT: f64 = 2.0;
+const OMEGA_DT_LIMIT: f64 = 2.0;
+const OMEGA_DT_WARN: f64 = 1.6;
+
+/// What an estimated `ω dt` says of a step: above [`OMEGA_DT_LIMIT`] velocity Verlet is
+/// unstable (the run stops), above [`OMEGA_DT_WARN`] contacts are resolved by few steps (a
+/// warning); Fractum's run and the LAMMPS plugin (`fractum_kernel_step_check`) judge alike.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StepVerdict {
+    Fine,
+    Coarse,
+    Unstable,
+}
+
+pub fn step_verdict(omega_dt: f64) -> StepVerdict {
+    if omega_dt > OMEGA_DT_LIMIT {
+        StepVerdict::Unstable
+    } else if omega_dt > OMEGA_DT_WARN {
+        StepVerdict::Coarse
+    } else {
+        StepVerdict::Fine
+    }
+}
+
 /// Steps between the stability checks and step adaptations of a granular run that adapts its
 /// step (fracture with `time.dt = "auto"`; also after every split and at the last step); other
 /// runs check after every step. A fixed cadence, so that what a run computes does not depend
@@ -159,7 +181,6 @@ pub const OMEGA_DT_LIMIT: f64 = 2.0;
 /// its ω dt at `ADAPT_PER_SAFETY` × safety (1.2 at 0.4), below the limit of 2, in between.
 /// `fractum export lammps --plugin` writes it as the plugin's `adapt_dt`.
 pub const STABILITY_EVERY: u64 = 10;
-pub const OMEGA_DT_WARN: f64 = 1.6;
 /// A fracture run with `time.dt = "auto"` keeps the estimated `ω dt` of its stiffest body at
 /// most this times `time.safety` (1.2 at the main job's 0.4): the safety that sets the first step
 /// from the Rayleigh step also sets how close to the stiffest contact the step stays as pieces
@@ -495,13 +516,14 @@ impl Granular {
         }
         let omega_dt = omega * clock.dt;
         self.state.max_omega_dt = self.state.max_omega_dt.max(omega_dt);
-        if omega_dt > OMEGA_DT_LIMIT {
+        let verdict = step_verdict(omega_dt);
+        if verdict == StepVerdict::Unstable {
             return Err(Error::run(format!(
                 "the time step is too long for the contacts at step {} (t = {:e} s): the stiffest body oscillates with omega dt = {omega_dt:.2}, and velocity Verlet needs less than 2; lower time.safety (now {}) or time.dt",
                 clock.step, clock.time, scene.time.safety
             )));
         }
-        if omega_dt > OMEGA_DT_WARN && !warnings.iter().any(|w| w.starts_with("omega dt")) {
+        if verdict == StepVerdict::Coarse && !warnings.iter().any(|w| w.starts_with("omega dt")) {
             warnings.push(format!(
                 "omega dt reached {omega_dt:.2} at step {} (t = {:e} s): contacts are resolved by few steps and results lose accuracy (two spheres meeting at 0.9 of the critical step, omega dt 1.93, rebound 48% too fast); consider a lower time.safety",
                 clock.step, clock.time
