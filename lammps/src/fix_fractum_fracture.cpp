@@ -253,6 +253,18 @@ void FixFractumFracture::setup(int)
   schedule_frequency();
 }
 
+/* The largest row of the frequency bound over all atoms (every rank's owned atoms' summed
+   shares of the last evaluation that summed them). */
+double FixFractumFracture::largest_share()
+{
+  double local = 0.0, sum = 0.0;
+  const int nlocal = atom->nlocal;
+  if (static_cast<int>(pair->shares.size()) >= nlocal)
+    for (int i = 0; i < nlocal; i++) local = std::max(local, pair->shares[i]);
+  MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_MAX, world);
+  return sum;
+}
+
 /* The step against the stiffest body's contacts at the setup's evaluation, as Fractum's run
    checks it (fractum_kernel_step_check): velocity Verlet is unstable above omega dt = 2 (the
    run stops here) and resolves a contact by few steps above 1.6 (a warning, once). At the
@@ -260,11 +272,7 @@ void FixFractumFracture::setup(int)
    adapt_omega_dt (< 2). */
 void FixFractumFracture::check_step()
 {
-  double local = 0.0, sum = 0.0;
-  const int nlocal = atom->nlocal;
-  if (static_cast<int>(pair->shares.size()) >= nlocal)
-    for (int i = 0; i < nlocal; i++) local = std::max(local, pair->shares[i]);
-  MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_MAX, world);
+  const double sum = largest_share();
   double omega_dt = 0.0;
   int verdict = 0;
   int status = fractum_kernel_step_check(sum, update->dt, &omega_dt, &verdict);
@@ -528,7 +536,8 @@ void FixFractumFracture::end_of_step()
 }
 
 /* What a split must keep: the parent's mass exactly, its momentum (to rounding), and the halves
-   apart (vector entries 11-13, maxima over the splits of this rank, reduced when read). */
+   apart (vector entries 11-13: maxima over the splits, reduced over the ranks at the end of
+   each pre_exchange that split). */
 void FixFractumFracture::audit(const FractumBody &parent, const FractumBody &plus,
                                const FractumBody &minus)
 {
@@ -556,11 +565,7 @@ void FixFractumFracture::audit(const FractumBody &parent, const FractumBody &plu
 /* Shortens the step when the largest frequency estimate of this step's contacts asks. */
 void FixFractumFracture::adapt_step()
 {
-  double local = 0.0, sum = 0.0;
-  const int nlocal = atom->nlocal;
-  if (static_cast<int>(pair->shares.size()) >= nlocal)
-    for (int i = 0; i < nlocal; i++) local = std::max(local, pair->shares[i]);
-  MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_MAX, world);
+  const double sum = largest_share();
   double next = update->dt;
   int status = fractum_kernel_adapted_step(sum, update->dt, adapt_omega_dt, &next);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "adapted_step", status);
@@ -720,11 +725,8 @@ double FixFractumFracture::compute_vector(int n)
   if (n == 7) return shortened;
   if (n == 8) return update->dt;
   if (n == 9) return failed_at;
-  if (n >= 10) {
-    double worst = 0.0;
-    MPI_Allreduce(&split_audit[n - 10], &worst, 1, MPI_DOUBLE, MPI_MAX, world);
-    return worst;
-  }
+  // Reduced over the ranks after every step with splits (pre_exchange).
+  if (n >= 10) return split_audit[n - 10];
   double local = 0.0, global = 0.0;
   if (n == 4) {
     arrays();

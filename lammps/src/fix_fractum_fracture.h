@@ -94,6 +94,7 @@ class FixFractumFracture : public Fix {
   void adapt_step();
   void schedule_frequency();
   void check_step();
+  double largest_share();
   void audit(const FractumBody &parent, const FractumBody &plus, const FractumBody &minus);
 };
 
