@@ -366,7 +366,6 @@ impl Scene {
     }
 }
 
-/// The short reason of an I/O error, without the "(os error 2)" noise.
 /// The bytes of the regular file at `path`, at most `limit` of them; `what` names the file
 /// in the reason ("scene file"). A FIFO given as a scene or checkpoint blocked for ever and
 /// `/dev/zero` was read until memory ran out: anything but a regular file is refused before
@@ -408,6 +407,7 @@ pub(crate) fn read_regular(
 /// The most bytes a scene file may hold (64 MiB: the largest shipped scene is a few kB).
 pub const SCENE_FILE_LIMIT: u64 = 64 << 20;
 
+/// The short reason of an I/O error, without the "(os error 2)" noise.
 pub(crate) fn io_reason(e: &std::io::Error) -> String {
     match e.kind() {
         std::io::ErrorKind::NotFound => "no such file".to_string(),
