@@ -426,12 +426,10 @@ fn sizes_beyond_the_body_limit_are_refused_before_allocating() {
     }
 }
 
-/// a checkpoint carries a format version and a checksum; damaged
-/// copies (single bit flips spread over the file, truncations) are refused by `resume` with one
-/// sentence naming the file, exit code 2 and no output folder, never resumed, never a panic.
-#[test]
-fn damaged_checkpoints_are_refused() {
-    let (dir, file) = common::scene_file(&common::small_oedometer(300, "\"contact\"", 0.002));
+/// A small oedometer of `count` spheres run with a checkpoint every 50 steps: its folder and
+/// the checkpoint it wrote at step 50.
+fn checkpoint_at_step_50(count: usize) -> (tempfile::TempDir, std::path::PathBuf) {
+    let (dir, file) = common::scene_file(&common::small_oedometer(count, "\"contact\"", 0.002));
     let whole = dir.path().join("whole");
     let o = common::fractum(
         dir.path(),
@@ -446,7 +444,15 @@ fn damaged_checkpoints_are_refused() {
         ],
     );
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let good = whole.join("checkpoints/step_000000050.fcp");
+    (dir, whole.join("checkpoints/step_000000050.fcp"))
+}
+
+/// a checkpoint carries a format version and a checksum; damaged
+/// copies (single bit flips spread over the file, truncations) are refused by `resume` with one
+/// sentence naming the file, exit code 2 and no output folder, never resumed, never a panic.
+#[test]
+fn damaged_checkpoints_are_refused() {
+    let (dir, good) = checkpoint_at_step_50(300);
     let bytes = std::fs::read(&good).unwrap();
     let damaged = dir.path().join("damaged.fcp");
     let out = dir.path().join("resumed");
@@ -460,16 +466,7 @@ fn damaged_checkpoints_are_refused() {
     tries.extend([0, 8, bytes.len() / 2, bytes.len() - 1].map(|cut| bytes[..cut].to_vec()));
     for (k, b) in tries.iter().enumerate() {
         std::fs::write(&damaged, b).unwrap();
-        let o = common::fractum(
-            dir.path(),
-            &[
-                "resume",
-                damaged.to_str().unwrap(),
-                "--out",
-                out.to_str().unwrap(),
-                "--quiet",
-            ],
-        );
+        let o = common::resume_output(dir.path(), &damaged, &out);
         let stderr = String::from_utf8_lossy(&o.stderr);
         assert_eq!(o.status.code(), Some(2), "try {k}: {stderr}");
         assert_eq!(stderr.lines().count(), 1, "try {k}: {stderr}");
@@ -778,22 +775,7 @@ fn a_huge_value_is_not_echoed_whole() {
 fn a_resealed_checkpoint_with_a_nan_inside_is_refused_not_a_panic() {
     // A checkpoint whose checksums were made again over a NaN position passed the seal and
     // panicked in the neighbour search (index out of bounds) at the first step.
-    let (dir, file) = common::scene_file(&common::small_oedometer(60, "\"contact\"", 0.002));
-    let whole = dir.path().join("whole");
-    let o = common::fractum(
-        dir.path(),
-        &[
-            "run",
-            file.to_str().unwrap(),
-            "--out",
-            whole.to_str().unwrap(),
-            "--quiet",
-            "--checkpoint-every",
-            "50",
-        ],
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let good = whole.join("checkpoints/step_000000050.fcp");
+    let (dir, good) = checkpoint_at_step_50(60);
     let (run, _) = fractum::models::resume(&good, 1).unwrap();
     let x = run.positions()[0].x.to_le_bytes();
     let mut bytes = std::fs::read(&good).unwrap();
@@ -818,16 +800,7 @@ fn a_resealed_checkpoint_with_a_nan_inside_is_refused_not_a_panic() {
     let forged = dir.path().join("forged.fcp");
     std::fs::write(&forged, &bytes).unwrap();
     let out = dir.path().join("resumed");
-    let o = common::fractum(
-        dir.path(),
-        &[
-            "resume",
-            forged.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-            "--quiet",
-        ],
-    );
+    let o = common::resume_output(dir.path(), &forged, &out);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(2), "{stderr}");
     assert_eq!(stderr.lines().count(), 1, "{stderr}");

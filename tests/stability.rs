@@ -185,49 +185,41 @@ fn frequency_bound_is_never_below_the_computed_highest_frequency() {
     }
 }
 
-/// A step so long that the first drift sends the grains to infinity (the command on a
-/// reduced main job): the neighbour grid searched for ever for a cell size on the infinite
+/// A step so long that the first drift sends the grains to infinity (a reduced main job with
+/// `time.dt = 1e308`): the neighbour grid searched for ever for a cell size on the infinite
 /// extent. Now the step ends and the run stops at once, exit 1, with the
 /// sentence that names the body; the state is checked after every step, not only at output
-/// steps (item 11). Run as a process with a deadline, so a regression fails instead of hanging.
+/// steps. Run as a process with a deadline ([`fractum_within`]), so a regression fails instead
+/// of hanging.
 #[test]
 fn a_run_that_turns_infinite_stops_at_once_with_a_sentence() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_fractum"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args([
-            "run",
-            "scenes/shpb_sand.toml",
-            "--quiet",
-            "--threads",
-            "1",
-            "--out",
-        ])
-        .arg(&out)
-        .args([
-            "--set",
-            "sample.box=[3e-3,3e-3,3e-3]",
-            "--set",
-            "sample.solid_fraction=0.45",
-        ])
-        .args(["--set", "loading.end_strain=0.02", "--set", "time.dt=1e308"])
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
-    let start = std::time::Instant::now();
-    let status = loop {
-        if let Some(s) = child.try_wait().unwrap() {
-            break s;
-        }
-        if start.elapsed().as_secs() > 120 {
-            child.kill().unwrap();
-            panic!("still running after 120 s: the run loops on non-finite positions");
-        }
-        std::thread::sleep(std::time::Duration::from_millis(50));
-    };
-    let mut err = String::new();
-    std::io::Read::read_to_string(&mut child.stderr.take().unwrap(), &mut err).unwrap();
+    let sets = [
+        "sample.box=[3e-3,3e-3,3e-3]",
+        "sample.solid_fraction=0.45",
+        "loading.end_strain=0.02",
+        "time.dt=1e308",
+    ];
+    let mut args = vec![
+        "run",
+        "scenes/shpb_sand.toml",
+        "--quiet",
+        "--threads",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    for set in &sets {
+        args.extend(["--set", set]);
+    }
+    let o = fractum_within(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")),
+        &args,
+        120.0,
+    )
+    .expect("still running after 120 s: the run loops on non-finite positions");
+    let (status, err) = (o.status, String::from_utf8_lossy(&o.stderr).to_string());
     assert_eq!(status.code(), Some(1), "{err}");
     assert!(
         err.contains("at step 1 ") && err.contains("non-finite position or velocity"),

@@ -79,7 +79,13 @@ pub fn scene_file(text: &str) -> (tempfile::TempDir, PathBuf) {
 
 /// `fractum resume CHECKPOINT --out OUT --quiet` in `cwd`; panics with its stderr on failure.
 pub fn resume(cwd: &Path, checkpoint: &Path, out: &Path) {
-    let o = fractum(
+    let o = resume_output(cwd, checkpoint, out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// `fractum resume CHECKPOINT --out OUT --quiet` in `cwd`, as it ended.
+pub fn resume_output(cwd: &Path, checkpoint: &Path, out: &Path) -> Output {
+    fractum(
         cwd,
         &[
             "resume",
@@ -88,8 +94,7 @@ pub fn resume(cwd: &Path, checkpoint: &Path, out: &Path) {
             out.to_str().unwrap(),
             "--quiet",
         ],
-    );
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    )
 }
 
 /// A result file's text without the summary's `wall_seconds` line, the one part that is timing.
