@@ -1543,6 +1543,34 @@ pub fn tangential_ratio(eight_g: f64, two_e: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// A saved contact history names its bodies by index; restored into a state of fewer
+    /// bodies (a forged or mismatched checkpoint) it is refused naming the body, where the
+    /// first step after it indexed a row that does not exist; within the bodies it is taken.
+    #[test]
+    fn a_history_naming_a_body_past_the_state_is_refused() {
+        for shapes in [false, true] {
+            let params = ContactParams {
+                hertz: Hertz::new(60e9, 0.17),
+                damping: None,
+                mindlin: Some(Mindlin::new(60e9, 0.17, 0.5)),
+                wall_friction: None,
+                skin: None,
+                shapes,
+            };
+            let saved = SavedHistory {
+                pairs: vec![(0, 5, [1e-9, 0.0, 0.0])],
+                walls: vec![(0, 2, [0.0; 3])],
+                normals: Vec::new(),
+                wall_radii: Vec::new(),
+            };
+            let data = postcard::to_stdvec(&saved).unwrap();
+            let mut effect = build_contact(params);
+            let err = effect.restore(&data, 5).unwrap_err().to_string();
+            assert!(err.contains("names body 5 of a state of 5 bodies"), "{err}");
+            effect.restore(&data, 6).unwrap();
+        }
+    }
+
     /// The rotation bound behind the separated pairs' skip: never below the angle of the
     /// rotation from one orientation to the other, and close to it for small turns.
     #[test]
