@@ -7,8 +7,8 @@
 #include "force.h"
 #include "library.h"
 #include "modify.h"
-#include "output.h"
-#include "pair_fractum_granular.h"
+#include "fractum_sums.h"
+#include "pair.h"
 #include "update.h"
 #include "utils.h"
 
@@ -23,7 +23,7 @@ static const char *STYLE = "fix fractum/fracture";
 static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [weibull_on contact|both] "
                            "[cohesion KIC N] "
                            "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
-                           "[seed N] [adapt_dt EVERY] [adapt_omega_dt X]";
+                           "[seed N]";
 
 static void cross(const double *a, const double *b, double *c)
 {
@@ -144,19 +144,11 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
         error->all(FLERR, "{}: seed = {} must be an integer >= 0", STYLE, s);
       seed = static_cast<bigint>(s);
       iarg += 2;
-    } else if (key == "adapt_dt") {
-      double n = num(iarg + 1, "adapt_dt");
-      if (!(n >= 0 && n == std::floor(n)))
-        error->all(FLERR, "{}: adapt_dt = {} must be an integer >= 0 (steps; 0: off)", STYLE, n);
-      adapt_every = static_cast<bigint>(n);
-      iarg += 2;
-    } else if (key == "adapt_omega_dt") {
-      double x = num(iarg + 1, "adapt_omega_dt");
-      if (!(x > 0.0 && x < 2.0))
-        error->all(FLERR, "{}: adapt_omega_dt = {} must lie in (0, 2) (velocity Verlet's limit)",
-                   STYLE, x);
-      adapt_omega_dt = x;
-      iarg += 2;
+    } else if (key == "adapt_dt" || key == "adapt_omega_dt") {
+      error->all(FLERR,
+                 "{}: {} is not an argument of this fix: the step adaptation is fix fractum/dt, "
+                 "`fix ID all fractum/dt EVERY omega_dt X` after this fix",
+                 STYLE, key);
     } else {
       error->all(FLERR, "{}: unknown argument {}; allowed: {}", STYLE, key, USAGE);
     }
@@ -167,7 +159,7 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
   next_reneighbor = -1;
   nevery = 1;
   vector_flag = 1;
-  size_vector = 13;
+  size_vector = 11;
   global_freq = 1;
   extvector = 0;
   restart_global = 1;
@@ -196,15 +188,26 @@ void FixFractumFracture::arrays()
 
 void FixFractumFracture::init()
 {
-  pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
-  if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular", STYLE);
+  sums = fractum_sums(lmp, STYLE);
+  int dim = 0;
+  const auto *material = static_cast<const FractumMaterial *>(
+      force->pair_match("fractum/granular", 1)->extract("fractum/material", dim));
+  // The step against the contacts is fix fractum/dt's: a run that breaks grains has one.
+  bool dt_fix = false;
+  for (auto &f : modify->get_fix_list()) dt_fix |= utils::strmatch(f->style, "^fractum/dt$");
+  if (!dt_fix)
+    error->all(FLERR,
+               "{} needs fix fractum/dt after it (the step against the contacts, which splits "
+               "stiffen): `fix dt all fractum/dt 10` adapts it every 10 steps as Fractum's "
+               "time.dt = \"auto\", `fix dt all fractum/dt 0` only checks it at every step",
+               STYLE);
   arrays();    // stops with the first missing array named
   if (atom->map_style == Atom::MAP_NONE)
     error->all(FLERR, "{} needs an atom map (`atom_modify map array`)", STYLE);
   law.mi = mi;
   law.sigma_c = sigma_c;
   law.sigma_f = sigma_f;
-  law.poisson = pair->poisson;
+  law.poisson = material->poisson;
   law.critical_contacts = critical_contacts;
   law.ideal_plane = ideal_plane;
   law.plane_jitter = plane_jitter;
@@ -212,13 +215,10 @@ void FixFractumFracture::init()
   law.gc = 0.0;
   law.weibull_sigma_c = weibull ? weibull_sigma_c : 0;
   if (cohesion) {
-    int status = fractum_kernel_cohesive_energy(kic, pair->young, pair->poisson, &law.gc);
+    int status = fractum_kernel_cohesive_energy(kic, material->young, material->poisson, &law.gc);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "cohesive_energy", status);
   }
-  pair->recording = true;
-  pair->sigma_f = sigma_f;
-  // The setup's evaluation sums the frequency shares: setup() checks the step against them.
-  pair->frequency_due = true;
+  sums->want_loads(sigma_f);
 }
 
 /* The Weibull factor of grain `tag` after `generation` splits, drawn as Fractum's run draws it
@@ -248,60 +248,9 @@ void FixFractumFracture::setup(int)
   }
   // The forces of the run's first step include the springs' (not advanced here).
   spring_forces(false);
-  check_step();
-  // Also after a restart.
-  schedule_frequency();
-}
-
-/* The largest row of the frequency bound over all atoms (every rank's owned atoms' summed
-   shares of the last evaluation that summed them). */
-double FixFractumFracture::largest_share()
-{
-  double local = 0.0, sum = 0.0;
-  const int nlocal = atom->nlocal;
-  if (static_cast<int>(pair->shares.size()) >= nlocal)
-    for (int i = 0; i < nlocal; i++) local = std::max(local, pair->shares[i]);
-  MPI_Allreduce(&local, &sum, 1, MPI_DOUBLE, MPI_MAX, world);
-  return sum;
-}
-
-/* The step against the stiffest body's contacts at the setup's evaluation, as Fractum's run
-   checks it (fractum_kernel_step_check): velocity Verlet is unstable above omega dt = 2 (the
-   run stops here) and resolves a contact by few steps above 1.6 (a warning, once). At the
-   setup, and without adapt_dt at every step; with it, the adapted step stays at
-   adapt_omega_dt (< 2). */
-void FixFractumFracture::check_step()
-{
-  const double sum = largest_share();
-  double omega_dt = 0.0;
-  int verdict = 0;
-  int status = fractum_kernel_step_check(sum, update->dt, &omega_dt, &verdict);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "step_check", status);
-  const double omega = omega_dt / update->dt;
-  if (verdict == 2)
-    error->all(FLERR,
-               "{}: the time step {} s is too long for the contacts at step {}: the stiffest body "
-               "oscillates with omega dt = {:.3f}, and velocity Verlet needs less than 2; "
-               "set timestep below {:.4g} s ({:.4g} s gives omega dt 0.6)",
-               STYLE, update->dt, update->ntimestep, omega_dt, 2.0 / omega, 0.6 / omega);
-  if (verdict == 1 && !warned_step && comm->me == 0)
-    error->warning(FLERR,
-                   "{}: omega dt = {:.3f} at step {}: contacts are resolved by few steps and "
-                   "results lose accuracy; consider timestep {:.4g} s (omega dt 0.6)",
-                   STYLE, omega_dt, update->ntimestep, 0.6 / omega);
-  if (verdict == 1) warned_step = true;
-}
-
-/* The next step's evaluation sums frequency shares when the step is to be checked then: an
-   output step, or the step that splits the grains found failing. */
-void FixFractumFracture::schedule_frequency()
-{
-  if (adapt_every > 0)
-    pair->frequency_due = (update->ntimestep + 1) % adapt_every == 0 || !decisions.empty();
-  else
-    // Without the adaptation the step is still checked, at every step (a contact closes
-    // within a few steps: a check at output steps came after a run had already lost grains).
-    pair->frequency_due = true;
+  // Splits restored from a restart file are made at the first step (fix fractum/dt schedules
+  // its shares for them).
+  sums->splits(false, !decisions.empty());
 }
 
 /* The cohesive springs of the owned atoms: both ends hold a copy, advanced identically
@@ -485,10 +434,10 @@ void FixFractumFracture::end_of_step()
   FractumBody b;
   FractumTrigger t;
   const int nlocal = atom->nlocal;
-  if (static_cast<int>(pair->loads.size()) < nlocal) return;    // no force evaluation yet
+  if (nlocal > 0 && !sums->load(nlocal - 1)) return;    // no force evaluation yet
   for (int i = 0; i < nlocal; i++) {
     if (!(atom->mask[i] & groupbit) || grain[i][3] != 0.0) continue;
-    const FractumGrainLoad &load = pair->loads[i];
+    const FractumGrainLoad &load = *sums->load(i);
     bool any = false;
     for (int k = 0; k < 9; k++) any |= load.moment[k] != 0.0;
     if (!any) continue;
@@ -521,18 +470,10 @@ void FixFractumFracture::end_of_step()
     next_reneighbor = update->ntimestep + 1;
     failed_at = static_cast<double>(update->ntimestep);
   }
-  if (adapt_every > 0) {
-    // Fractum adapts after a split on the forces at the new shapes, and at its output steps;
-    // here the halves' first evaluation is in the step after the decision.
-    const bigint step = update->ntimestep;
-    if (split_evaluated || (step % adapt_every == 0 && decisions.empty() && pair->frequency_due))
-      adapt_step();
-    split_evaluated = false;
-    schedule_frequency();
-  } else if (pair->frequency_due) {
-    check_step();
-    schedule_frequency();
-  }
+  // For fix fractum/dt (its end of step comes next): the halves of this step's splits had
+  // their first evaluation, and the grains found failing split in the next step.
+  sums->splits(split_evaluated, !decisions.empty());
+  split_evaluated = false;
 }
 
 /* What a split must keep: the parent's mass exactly, its momentum (to rounding), and the halves
@@ -560,24 +501,6 @@ void FixFractumFracture::audit(const FractumBody &parent, const FractumBody &plu
   split_audit[0] = std::max(split_audit[0], mass_error);
   split_audit[1] = std::max(split_audit[1], momentum_error);
   split_audit[2] = std::max(split_audit[2], overlap);
-}
-
-/* Shortens the step when the largest frequency estimate of this step's contacts asks. */
-void FixFractumFracture::adapt_step()
-{
-  const double sum = largest_share();
-  double next = update->dt;
-  int status = fractum_kernel_adapted_step(sum, update->dt, adapt_omega_dt, &next);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "adapted_step", status);
-  if (next == update->dt) return;
-  // As fix dt/reset: everything that depends on the step learns it.
-  update->update_time();
-  update->dt = next;
-  update->dt_default = 0;
-  if (force->pair) force->pair->reset_dt();
-  for (auto &ifix : modify->get_fix_list()) ifix->reset_dt();
-  output->reset_dt();
-  shortened += 1.0;
 }
 
 void FixFractumFracture::pre_exchange()
@@ -701,10 +624,9 @@ void FixFractumFracture::pre_exchange()
   }
   pending.clear();
   split_evaluated = n > 0;
-  if (split_evaluated && adapt_every > 0) pair->frequency_due = true;
   for (int k = 0; k < n; k++) {
     // Every rank that computes a contact of the parent starts its held Hertz radius afresh.
-    pair->reshaped.push_back(all[k].parent);
+    sums->reshape(all[k].parent);
     counts[0] += 1;
     counts[1] += all[k].first_split;
     counts[2] += all[k].criterion == 1;
@@ -722,11 +644,9 @@ void FixFractumFracture::pre_exchange()
 double FixFractumFracture::compute_vector(int n)
 {
   if (n < 4) return counts[n];
-  if (n == 7) return shortened;
-  if (n == 8) return update->dt;
-  if (n == 9) return failed_at;
+  if (n == 7) return failed_at;
   // Reduced over the ranks after every step with splits (pre_exchange).
-  if (n >= 10) return split_audit[n - 10];
+  if (n >= 8) return split_audit[n - 8];
   double local = 0.0, global = 0.0;
   if (n == 4) {
     arrays();
@@ -737,9 +657,9 @@ double FixFractumFracture::compute_vector(int n)
           if (slot[0] != 0.0 && slot[20] == 0.0 && slot[1] > 0.0) local += 1.0;
         }
   } else if (n == 5) {
-    local = pair->elastic_energy;
+    local = sums->energy();
   } else {
-    local = pair->dissipated;
+    local = sums->dissipation();
   }
   MPI_Allreduce(&local, &global, 1, MPI_DOUBLE, MPI_SUM, world);
   return global;
@@ -751,9 +671,8 @@ void FixFractumFracture::write_restart(FILE *fp)
   // holds all of them).
   if (comm->me != 0) return;
   std::vector<double> buf;
-  buf.push_back(6.0);
+  buf.push_back(7.0);
   for (double c : counts) buf.push_back(c);
-  buf.push_back(shortened);
   buf.push_back(failed_at);
   for (double a : split_audit) buf.push_back(a);
   buf.push_back(static_cast<double>(decisions.size()));
@@ -771,16 +690,15 @@ void FixFractumFracture::write_restart(FILE *fp)
 void FixFractumFracture::restart(char *raw)
 {
   auto *buf = reinterpret_cast<double *>(raw);
-  if (static_cast<int>(buf[0]) != 6)
+  if (static_cast<int>(buf[0]) != 7)
     error->all(FLERR, "{}: the restart file's fracture state is not this plugin's", STYLE);
   for (int k = 0; k < 4; k++) counts[k] = buf[1 + k];
-  shortened = buf[5];
-  failed_at = buf[6];
-  for (int k = 0; k < 3; k++) split_audit[k] = buf[7 + k];
-  size_t n = static_cast<size_t>(buf[10]);
-  if (static_cast<size_t>(buf[11]) != sizeof(Decision))
+  failed_at = buf[5];
+  for (int k = 0; k < 3; k++) split_audit[k] = buf[6 + k];
+  size_t n = static_cast<size_t>(buf[9]);
+  if (static_cast<size_t>(buf[10]) != sizeof(Decision))
     error->all(FLERR, "{}: the restart file's pending splits come from another build", STYLE);
   decisions.resize(n);
-  if (n) std::memcpy(decisions.data(), &buf[12], sizeof(Decision) * n);
+  if (n) std::memcpy(decisions.data(), &buf[11], sizeof(Decision) * n);
   if (n) next_reneighbor = update->ntimestep + 1;
 }

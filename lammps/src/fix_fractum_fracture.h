@@ -7,7 +7,6 @@
 
    fix ID group fractum/fracture mi M sigma_c S sigma_f S [weibull W XM] [weibull_on contact|both] [cohesion KIC N]
        [critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] [seed N]
-       [adapt_dt EVERY] [adapt_omega_dt X]
 
    Per-atom state: d2_fr_grain (strength factor, sample grain, splits, intact springs, parent) and
    d2_fr_springs (21 doubles per spring slot, N slots):
@@ -18,16 +17,15 @@
 
    Global vector: 1 splits, 2 grains of the sample broken, 3 splits by Hoek-Brown, 4 by contacts,
    5 intact springs, 6 elastic energy of the contacts (J), 7 energy dissipated in the contacts
-   over the last step (J), 8 times the step was shortened (adapt_dt), 9 the step (s), 10 the
-   last step whose end found failing grains (split at the start of the next; Fractum splits
-   them at the end of that step; -1 before any), 11 the largest relative mass change of a split
-   (|m+ + m- - M| / M: 0, the halves' masses add up exactly), 12 the largest momentum change of a
-   split relative to M (|v| + |omega| r), 13 the deepest overlap of two halves at their split (m;
-   0: none), over the splits since LAMMPS started (not kept in restart files).
+   over the last step (J), 8 the last step whose end found failing grains (split at the start
+   of the next; Fractum splits them at the end of that step; -1 before any), 9 the largest
+   relative mass change of a split (|m+ + m- - M| / M: 0, the halves' masses add up exactly),
+   10 the largest momentum change of a split relative to M (|v| + |omega| r), 11 the deepest
+   overlap of two halves at their split (m; 0: none), over the splits since LAMMPS started.
 
-   With `adapt_dt EVERY` the step adapts as Fractum's does with time.dt = "auto": every EVERY
-   steps (Fractum's output.every) and in the step after a split, the step is shortened so that
-   the estimated highest contact frequency omega gives omega dt = 0.6 when it is above. */
+   The grain loads come from pair fractum/granular's sums (Pair::extract "fractum/sums"); the
+   step against the contacts is fix fractum/dt's, which must follow this fix (it reads the
+   splits of the step). */
 #ifndef FRACTUM_FIX_FRACTURE_H
 #define FRACTUM_FIX_FRACTURE_H
 
@@ -54,18 +52,14 @@ class FixFractumFracture : public Fix {
   enum { SPRING_SLOT = 21 };
 
  private:
-  class PairFractumGranular *pair = nullptr;
+  class FractumSums *sums = nullptr;
   FractumFractureLaw law{};
   double mi = 0, sigma_c = 0, sigma_f = 0, weibull_w = 0, weibull_xm = 0, kic = 0;
   int springs = 0, critical_contacts = 3, ideal_plane = 1, plane_jitter = 0, weibull = 0,
       weibull_sigma_c = 0;
   int cohesion = 0;
   bigint seed = 1;
-  bigint adapt_every = 0;    // 0: the step is left alone
-  double adapt_omega_dt = 0.6;    // the omega dt the step is shortened to (Fractum: 3 x safety)
   bool split_evaluated = false;
-  bool warned_step = false;    // the omega dt warning given
-  double shortened = 0.0;
   double failed_at = -1.0;
   double split_audit[3] = {0.0, 0.0, 0.0};
 
@@ -91,10 +85,6 @@ class FixFractumFracture : public Fix {
   double draw_strength(tagint tag, int generation, const FractumBody &b);
   void spring_forces(bool advance);
   void bond();
-  void adapt_step();
-  void schedule_frequency();
-  void check_step();
-  double largest_share();
   void audit(const FractumBody &parent, const FractumBody &plus, const FractumBody &minus);
 };
 

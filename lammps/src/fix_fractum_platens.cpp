@@ -5,7 +5,8 @@
 #include "error.h"
 #include "force.h"
 #include "input.h"
-#include "pair_fractum_granular.h"
+#include "fractum_sums.h"
+#include "pair.h"
 #include "update.h"
 #include "utils.h"
 #include "variable.h"
@@ -88,11 +89,17 @@ int FixFractumPlatens::setmask()
 
 void FixFractumPlatens::init()
 {
-  pair = dynamic_cast<PairFractumGranular *>(force->pair_match("fractum/granular", 1));
-  if (!pair) error->all(FLERR, "{} needs pair_style fractum/granular (it takes its law)", STYLE);
-  law = pair->law_with(wall_friction >= 0 ? wall_friction
-                                         : (pair->friction >= 0 ? pair->friction : 0.0));
-  if ((law.friction || pair->shapes))
+  // The pair's law (its material, the faces' own friction when given) and sums.
+  sums = fractum_sums(lmp, STYLE);
+  int dim = 0;
+  Pair *pair = force->pair_match("fractum/granular", 1);
+  const auto *material = static_cast<const FractumMaterial *>(pair->extract("fractum/material", dim));
+  shapes = *static_cast<const int *>(pair->extract("fractum/shapes", dim));
+  law = fractum_contact_law(lmp, STYLE, *material,
+                            wall_friction >= 0 ? wall_friction
+                                               : (material->friction >= 0 ? material->friction : 0.0));
+  poisson = material->poisson;
+  if ((law.friction || shapes))
     fractum_array(lmp, STYLE, "fr_walls", 6 * WALL_SLOT,
                   "declare `fix ID all property/atom d2_fr_walls 42` (the faces' contact "
                   "histories) before read_data");
@@ -140,10 +147,14 @@ void FixFractumPlatens::post_force(int)
 {
   std::memset(local, 0, sizeof local);
   double **walls = fractum_array_if(lmp, "fr_walls");
-  // The pair refreshed the per-atom arrays in this step's force evaluation, just before.
-  const bool shapes = pair->shapes;
-  double **shape = pair->shape_arr, **quat = pair->quat_arr, **inertia = pair->inertia_arr;
-  double **grain = pair->grain_arr;
+  double **shape = nullptr, **quat = nullptr, **inertia = nullptr, **grain = nullptr;
+  if (shapes) {
+    shape = fractum_array_if(lmp, "fr_shape");
+    quat = fractum_array_if(lmp, "fr_orient");
+    inertia = fractum_array_if(lmp, "fr_inertia");
+    grain = fractum_array_if(lmp, "fr_grain");
+  }
+  const bool frequency_due = sums->shares_wanted();
   const int update_history = update->setupflag ? 0 : 1;
   const bool keep_memory = fractum_keep_memory(update->setupflag, update->ntimestep);
   FractumBody b;
@@ -184,11 +195,11 @@ void FixFractumPlatens::post_force(int)
       }
       local[w] -= out.force[w / 2];
       local[FACES + w] += 1.0;
-      pair->elastic_energy += out.energy;
-      pair->dissipated += out.dissipated;
-      if (pair->frequency_due) pair->add_share(i, out, b, nullptr);
-      if (pair->recording && grain && grain[i][3] == 0.0)
-        pair->record(i, out.force, out.point, out.hertz_force, out.radius, grain[i][0]);
+      sums->add_energy(out.energy, out.dissipated);
+      if (frequency_due) sums->add_share(lmp, STYLE, law, i, out, b, nullptr);
+      if (grain && grain[i][3] == 0.0)
+        sums->add_load(lmp, STYLE, i, x[i], out.force, out.point, out.hertz_force, out.radius,
+                       poisson, grain[i][0]);
     }
   }
   reduced_at = -1;

@@ -44,8 +44,10 @@ class FixFractumPlatens : public Fix {
   double wall_friction = -1.0;
 
  private:
-  class PairFractumGranular *pair = nullptr;
+  class FractumSums *sums = nullptr;
   FractumContactLaw law{};
+  int shapes = 0;    // bodies other than spheres take part (the pair's)
+  double poisson = 0.0;    // the pair's (the contact tensile stress of a face's contact)
   double local[2 * FACES] = {};    // force along the axis, contacts (this rank)
   double global[2 * FACES] = {};
   bigint reduced_at = -1;

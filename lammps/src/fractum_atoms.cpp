@@ -1,6 +1,9 @@
 #include "fractum_atoms.h"
 
+#include "force.h"
+#include "fractum_sums.h"
 #include "lammps.h"
+#include "pair.h"
 
 using namespace LAMMPS_NS;
 
@@ -36,4 +39,24 @@ void LAMMPS_NS::fractum_kernel_failed(LAMMPS *lmp, const char *style, const char
                   "{}: the Fractum kernel {} refused its arguments (status {}): a non-finite or "
                   "non-positive value in the per-atom data",
                   style, kernel, status);
+}
+
+FractumContactLaw LAMMPS_NS::fractum_contact_law(LAMMPS *lmp, const char *style,
+                                                 const FractumMaterial &m, double mu)
+{
+  FractumContactLaw out;
+  int status = fractum_kernel_contact_law(m.young, m.poisson,
+                                          m.restitution > 0 ? m.restitution : 1.0, mu,
+                                          m.restitution > 0 ? 1 : 0, m.friction >= 0 ? 1 : 0, &out);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, style, "contact_law", status);
+  return out;
+}
+
+FractumSums *LAMMPS_NS::fractum_sums(LAMMPS *lmp, const char *style)
+{
+  int dim = 0;
+  Pair *pair = lmp->force->pair_match("fractum/granular", 1);
+  void *sums = pair ? pair->extract("fractum/sums", dim) : nullptr;
+  if (!sums) lmp->error->all(FLERR, "{} needs pair_style fractum/granular", style);
+  return static_cast<FractumSums *>(sums);
 }

@@ -127,6 +127,17 @@ inline FractumPairMemory *fractum_memory(FractumPairMemory *stored, bool keep,
   return &scratch;
 }
 
+/* The contact material of pair_coeff: Young's modulus (Pa), Poisson's ratio, the coefficient
+   of restitution (-1: no damping) and friction (-1: none). */
+struct FractumMaterial {
+  double young = 0.0, poisson = 0.0, restitution = -1.0, friction = -1.0;
+};
+
+/* The contact law of `m` with the Coulomb coefficient `mu` (the walls may take their own), as
+   libfractum's fractum_kernel_contact_law builds it; `style` names the caller in an error. */
+FractumContactLaw fractum_contact_law(LAMMPS *lmp, const char *style, const FractumMaterial &m,
+                                      double mu);
+
 /* One sentence for a failed kernel call (never expected: the arguments come from checked
    state). */
 void fractum_kernel_failed(LAMMPS *lmp, const char *style, const char *kernel, int status);

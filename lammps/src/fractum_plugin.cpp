@@ -1,6 +1,7 @@
 /* Registers the Fractum styles with LAMMPS (`plugin load dist/fractumplugin.so`). */
 #include "lammpsplugin.h"
 
+#include "fix_fractum_dt.h"
 #include "fix_fractum_fracture.h"
 #include "fix_fractum_nve_polyell.h"
 #include "fix_fractum_platens.h"
@@ -121,5 +122,10 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "fractum/fracture";
   plugin.info = "Fractum grain fracture: criteria, splits, cohesive springs";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_creator<FixFractumFracture>;
+  (*reg)(&plugin, lmp);
+
+  plugin.name = "fractum/dt";
+  plugin.info = "Fractum's step against the contacts: adapted or checked";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_creator<FixFractumDt>;
   (*reg)(&plugin, lmp);
 }

@@ -64,8 +64,7 @@ void PairFractumGranular::coeff(int narg, char **arg)
   const char *usage = "pair_coeff * * young E poisson NU [restitution e] [friction MU]";
   if (narg < 2 || std::strcmp(arg[0], "*") != 0 || std::strcmp(arg[1], "*") != 0)
     error->all(FLERR, "{}: one material for all atom types: {}", STYLE, usage);
-  young = poisson = NAN;
-  restitution = friction = -1.0;
+  double young = NAN, poisson = NAN, restitution = -1.0, friction = -1.0;
   for (int k = 2; k < narg; k += 2) {
     if (k + 1 >= narg) error->all(FLERR, "{}: keyword {} needs a value: {}", STYLE, arg[k], usage);
     double v = utils::numeric(FLERR, arg[k + 1], false, lmp);
@@ -89,7 +88,8 @@ void PairFractumGranular::coeff(int narg, char **arg)
   }
   if (std::isnan(young) || std::isnan(poisson))
     error->all(FLERR, "{}: young and poisson are required: {}", STYLE, usage);
-  law = law_with(friction >= 0 ? friction : 0.0);
+  material = FractumMaterial{young, poisson, restitution, friction};
+  law = fractum_contact_law(lmp, STYLE, material, friction >= 0 ? friction : 0.0);
 
   if (!allocated) {
     allocated = 1;
@@ -101,13 +101,13 @@ void PairFractumGranular::coeff(int narg, char **arg)
     for (int j = i; j <= atom->ntypes; j++) setflag[i][j] = 1;
 }
 
-FractumContactLaw PairFractumGranular::law_with(double mu)
+void *PairFractumGranular::extract(const char *name, int &dim)
 {
-  FractumContactLaw out;
-  int status = fractum_kernel_contact_law(young, poisson, restitution > 0 ? restitution : 1.0, mu,
-                                          restitution > 0 ? 1 : 0, friction >= 0 ? 1 : 0, &out);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "contact_law", status);
-  return out;
+  dim = 0;
+  if (std::strcmp(name, "fractum/sums") == 0) return &sums;
+  if (std::strcmp(name, "fractum/material") == 0) return &material;
+  if (std::strcmp(name, "fractum/shapes") == 0) return &shapes;
+  return nullptr;
 }
 
 void PairFractumGranular::init_style()
@@ -178,24 +178,6 @@ void PairFractumGranular::reset_record(double *r)
   r[7] = 0.0;
 }
 
-void PairFractumGranular::record(int i, const double *f, const double *p, double hertz_force,
-                                 double radius, double strength)
-{
-  int status = fractum_kernel_grain_load_add(&loads[i], atom->x[i], f, p, hertz_force, radius,
-                                             poisson, sigma_f * strength);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "grain_load_add", status);
-}
-
-void PairFractumGranular::add_share(int i, const FractumContact &c, const FractumBody &b,
-                                    const FractumBody *partner)
-{
-  double share = 0.0;
-  int status = fractum_kernel_frequency_share(&law, &c, &b, partner, &share);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "frequency_share", status);
-  if (shares.size() < static_cast<size_t>(atom->nlocal)) shares.resize(atom->nlocal, 0.0);
-  shares[i] += share;
-}
-
 void PairFractumGranular::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
@@ -223,13 +205,11 @@ void PairFractumGranular::compute(int eflag, int vflag)
     }
   }
   if (history && neighbor->ago == 0) check_history();
-  if (recording) loads.assign(nlocal, FractumGrainLoad{});
-  if (frequency_due) shares.assign(nlocal, 0.0);
-  elastic_energy = dissipated = 0.0;
-  contacts = 0;
+  sums.begin(nlocal);
+  const bool frequency_due = sums.shares_wanted();
   touching.clear();
   sides.clear();
-  std::sort(reshaped.begin(), reshaped.end());
+  const std::vector<tagint> &reshaped = sums.reshaped_sorted();
   const bool any_reshaped = !reshaped.empty();
   const int update_history = update->setupflag ? 0 : 1;
   const bool keep_memory = fractum_keep_memory(update->setupflag, update->ntimestep);
@@ -294,12 +274,8 @@ void PairFractumGranular::compute(int eflag, int vflag)
       const int j = jlist[row_at[c]] & NEIGHMASK;
       const bool swap = tag[i] > tag[j];
       const int a = swap ? j : i;
-      contacts++;
       // Energies once per contact: by the rank that owns its lower-tag atom.
-      if (a < nlocal) {
-        elastic_energy += out.energy;
-        dissipated += out.dissipated;
-      }
+      if (a < nlocal) sums.add_energy(out.energy, out.dissipated);
       // One record per contact: the force on i, the torques on i and j; each owned atom of
       // it gets a key (its partner's tag) pointing at the record's side.
       const int n = static_cast<int>(touching.size());
@@ -342,7 +318,6 @@ void PairFractumGranular::compute(int eflag, int vflag)
       for (; m > first[i] && order[m - 1].partner > moving.partner; m--) order[m] = order[m - 1];
       order[m] = moving;
     }
-  if (frequency_due && shares.size() < static_cast<size_t>(nlocal)) shares.resize(nlocal, 0.0);
   for (const Side &k : order) {
     const Touching &t = touching[k.side >> 1];
     const bool as_j = k.side & 1;
@@ -354,19 +329,19 @@ void PairFractumGranular::compute(int eflag, int vflag)
       f[i][d] += force[d];
       torque[i][d] += turn[d];
     }
-    if (frequency_due) shares[i] += as_j ? t.share_j : t.share_i;
-    if (recording && grain_arr[i][3] == 0.0)
-      record(i, force, t.point, t.hertz_force, t.radius, grain_arr[i][0]);
+    if (frequency_due) sums.add_share(i, as_j ? t.share_j : t.share_i);
+    if (grain_arr && grain_arr[i][3] == 0.0)
+      sums.add_load(lmp, STYLE, i, atom->x[i], force, t.point, t.hertz_force, t.radius,
+                    material.poisson, grain_arr[i][0]);
   }
-  reshaped.clear();
+  sums.reshaped_done();
 }
 
 double PairFractumGranular::memory_usage()
 {
   return (double) bodies.capacity() * sizeof(FractumBody) +
       (double) places.capacity() * sizeof(FractumPlacement) +
-      (double) loads.capacity() * sizeof(FractumGrainLoad) +
-      (double) shares.capacity() * sizeof(double) +
+      sums.memory_usage() +
       (double) touching.capacity() * sizeof(Touching) +
       (double) (sides.capacity() + order.capacity()) * sizeof(Side) +
       (double) (first.capacity() + cursor.capacity() + row_at.capacity()) * sizeof(int) +

@@ -16,6 +16,7 @@
 #define FRACTUM_PAIR_GRANULAR_H
 
 #include "fractum_atoms.h"
+#include "fractum_sums.h"
 #include "pair.h"
 
 #include <vector>
@@ -37,41 +38,20 @@ class PairFractumGranular : public Pair {
   void transfer_history(double *, double *, int, int) override;
   double memory_usage() override;
 
-  /* The contact law, for the walls (fix fractum/platens) and fracture. */
-  double young = 0.0, poisson = 0.0, restitution = -1.0, friction = -1.0;
+  /* The fixes take what they need through extract: "fractum/sums" (the FractumSums of each
+     evaluation), "fractum/material" (FractumMaterial: the pair_coeff values, from which the
+     walls build their law), "fractum/shapes" (int: bodies other than spheres take part). */
+  void *extract(const char *, int &) override;
+
+ private:
+  FractumMaterial material{};
   FractumContactLaw law{};
-  /* The same law with the Coulomb coefficient mu (the faces may take their own). */
-  FractumContactLaw law_with(double mu);
   /* Bodies that are not spheres take part: Fractum's POLY contact variant. */
   int shapes = 0;
-
-  /* Grain fracture reads, per owned atom, its grain load (libfractum's FractumGrainLoad: the
-     moment sum of its contacts and its critical contacts, summed by
-     fractum_kernel_grain_load_add as Fractum's check sums them): the pair and the walls fill
-     them while `recording` is set (by fix fractum/fracture). */
-  bool recording = false;
-  double sigma_f = 0.0;    // contact tensile strength (Pa) at Weibull factor 1
-  std::vector<FractumGrainLoad> loads;    // 1 per owned atom
-  double elastic_energy = 0.0, dissipated = 0.0;    // this rank's, last evaluation
-  int contacts = 0;
-  /* Record one contact of owned atom i: force f on it at point p. */
-  void record(int i, const double *f, const double *p, double hertz_force, double radius,
-              double strength);
-  /* Fractum's step adaptation (fix fractum/fracture adapt_dt) reads, per owned atom, the sum of
-     its contacts' frequency shares: the pair and the walls fill it in an evaluation while
-     `frequency_due` is set. */
-  bool frequency_due = false;
-  std::vector<double> shares;    // 1 per owned atom
-  /* Add contact c's share to owned atom i (body b; its partner, nullptr for a wall). */
-  void add_share(int i, const FractumContact &c, const FractumBody &b,
-                 const FractumBody *partner);
-  /* Tags of bodies reshaped by a split: their contacts' held Hertz radii start afresh. */
-  std::vector<tagint> reshaped;
-
+  FractumSums sums;
   double **shape_arr = nullptr, **quat_arr = nullptr, **inertia_arr = nullptr;
   double **grain_arr = nullptr;
 
- protected:
   class FractumNeighHistoryView *history = nullptr;
   class Fix *dummy = nullptr;
   std::vector<FractumBody> bodies;

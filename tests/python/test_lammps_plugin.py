@@ -174,6 +174,15 @@ def test_frictionless_spheres_equal_pair_granular(tmp_path):
      ["fix fractum/fracture", "critical_contacts", "3..64"]),
     ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 critical_contacts 65",
      ["fix fractum/fracture", "critical_contacts", "3..64"]),
+    # The step adaptation is its own style, after the fracture fix whose splits it reads.
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 adapt_dt 10",
+     ["fix fractum/fracture", "adapt_dt", "fix fractum/dt"]),
+    ("fix dt all fractum/dt 10 omega_dt 2.5", ["fix fractum/dt", "omega_dt", "(0, 2)"]),
+    ("fix dt all fractum/dt -1", ["fix fractum/dt", "EVERY", ">= 0"]),
+    ("unfix dt", ["fix fractum/fracture", "needs fix fractum/dt"]),
+    ("unfix dt\nunfix fracture\nfix dt all fractum/dt 10\n"
+     "fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9",
+     ["fix fractum/dt", "after fix fractum/fracture"]),
 ])
 def test_bad_arguments_stop_with_one_sentence(tmp_path, line, words):
     folder = str(tmp_path)
@@ -202,14 +211,14 @@ def test_a_step_too_long_for_the_contacts_stops_the_run(tmp_path, scale, adapt, 
     script = with_run(folder, run="run 3000")
     dt = float(re.search(r"^timestep\s+(\S+)", script, re.M).group(1))
     script = re.sub(r"^timestep\s+\S+", f"timestep {dt * scale:.6e}", script, flags=re.M)
-    script = re.sub(r"adapt_dt \d+", f"adapt_dt {adapt}", script)
+    script = re.sub(r"fractum/dt \d+", f"fractum/dt {adapt}", script)
     p = lammps(folder, script, check=False)
     out = p.stdout + p.stderr
     assert "Segmentation" not in out
     if stops:
         assert p.returncode != 0, out[-2000:]
         error = next(l for l in out.splitlines() if l.startswith("ERROR"))
-        for w in ("fix fractum/fracture", "too long", "omega dt", "timestep below"):
+        for w in ("fix fractum/dt", "too long", "omega dt", "timestep below"):
             assert w in error, error
     else:
         assert p.returncode == 0, out[-2000:]
@@ -320,7 +329,7 @@ def test_crush_grain_matches_fractum_to_the_first_split(tmp_path):
         folder,
         before_run="variable splits equal f_fracture[1]\n"
                    "fix first all halt 1 v_splits > 0 error continue message no",
-        after='print "SPLIT $(f_fracture[10]) $(f_fracture[8]) $(f_fracture[11])"\n'
+        after='print "SPLIT $(f_fracture[8]) $(f_dt[1]) $(f_fracture[9])"\n'
               "write_dump all custom shapes.dump id d2_fr_shape[2] d2_fr_shape[3] d2_fr_shape[4] "
               "d2_fr_shape[5] d2_fr_shape[6] d2_fr_shape[7] modify format float %.17g")
     p = lammps(folder, script)
@@ -361,10 +370,10 @@ def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel
     second LAMMPS run when given, on `read_ranks` ranks when given; with the step adapted to `adapt_omega_dt` instead of the
     export's target when given; without the travels, so without the separated pairs' skip,
     when `travel` is false); the final atoms (the travel last, when declared), and what the
-    fracture fix reports (splits, the split audit, atoms, times the step was shortened and the
-    step)."""
-    report = ('print "FRACTURE $(f_fracture[1]) $(f_fracture[11]) $(f_fracture[12]) '
-              '$(f_fracture[13]) $(atoms) $(f_fracture[8]) $(f_fracture[9]:%.17g)"\n'
+    fracture fix reports (splits, the split audit, atoms) with fix fractum/dt's (times the step
+    was shortened, the step)."""
+    report = ('print "FRACTURE $(f_fracture[1]) $(f_fracture[9]) $(f_fracture[10]) '
+              '$(f_fracture[11]) $(atoms) $(f_dt[1]) $(f_dt[2]:%.17g)"\n'
               "write_dump all custom final.dump id mass radius x y z vx vy vz d2_fr_grain[5] "
               "d2_fr_grain[1]" + (" d2_fr_travel[1]" if travel else "") +
               " modify format float %.17g")
@@ -373,8 +382,8 @@ def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel
     if not travel:
         head = "\n".join(l for l in head.splitlines() if "d2_fr_travel" not in l) + "\n"
     if adapt_omega_dt is not None:
-        assert "adapt_omega_dt" in head
-        head = re.sub(r"adapt_omega_dt \S+", f"adapt_omega_dt {adapt_omega_dt}", head)
+        assert "fractum/dt" in head and " omega_dt " in head
+        head = re.sub(r" omega_dt \S+", f" omega_dt {adapt_omega_dt}", head)
     if restart_at is None:
         p = lammps(folder, head + f"run {steps}\n" + report + "\n", ranks)
     else:

@@ -845,7 +845,7 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     }
     let fracture = plan.has(EffectKind::Fracture);
     // Fractum shortens a fracture run's step as pieces stiffen (time.dt = "auto"), checked
-    // every STABILITY_EVERY steps; the plugin does the same (adapt_dt), so the run ends at
+    // every STABILITY_EVERY steps; the plugin does the same (fix fractum/dt), so the run ends at
     // Fractum's end time, not after a step count.
     let adapt = fracture && sim.model.auto_dt;
     if let Some(f) = st.fracture.as_ref().filter(|_| fracture) {
@@ -869,15 +869,19 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         if let Some((_, ns)) = p.cohesion {
             let _ = write!(line, " cohesion {:e} {ns}", plan.cfg.fracture.toughness);
         }
+        let _ = writeln!(s, "{line}");
+        // The step against the contacts (after the fracture fix: it reads the step's splits):
+        // adapted as Fractum's, or, with a step in seconds, checked at every step.
         if adapt {
-            let _ = write!(
-                line,
-                " adapt_dt {} adapt_omega_dt {:e}",
+            let _ = writeln!(
+                s,
+                "fix             dt all fractum/dt {} omega_dt {:e}",
                 super::STABILITY_EVERY,
                 sim.model.adapt_omega_dt
             );
+        } else {
+            let _ = writeln!(s, "fix             dt all fractum/dt 0");
         }
-        let _ = writeln!(s, "{line}");
     }
     let mut columns = vec!["time".to_string()];
     let mut values = vec!["time".to_string()];

@@ -179,7 +179,7 @@ pub fn step_verdict(omega_dt: f64) -> StepVerdict {
 /// fracture run after every step cost 1.6 times its time per step (the estimate takes an
 /// eigenvalue per contact record); every 10 steps a tenth of that, and the adaptation keeps
 /// its ω dt at `ADAPT_PER_SAFETY` × safety (1.2 at 0.4), below the limit of 2, in between.
-/// `fractum export lammps --plugin` writes it as the plugin's `adapt_dt`.
+/// `fractum export lammps --plugin` writes it as the plugin's `fix fractum/dt` EVERY.
 pub const STABILITY_EVERY: u64 = 10;
 /// A fracture run with `time.dt = "auto"` keeps the estimated `ω dt` of its stiffest body at
 /// most this times `time.safety` (1.2 at the main job's 0.4): the safety that sets the first step
