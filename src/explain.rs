@@ -30,3 +30,24 @@ pub fn write_pipeline(
         let _ = writeln!(s, "not built (not in `effects`): {}", left_out.join(", "));
     }
 }
+
+/// The integrator line: the scheme's name and the step (`TimeSpec::describe_step`).
+pub fn write_integrator(s: &mut String, integrator: &str, dt: &str) {
+    let _ = writeln!(s, "integrator: {integrator}, dt {dt}");
+}
+
+/// The outputs line: a series row every `output.every` steps, the VTK snapshots (`vtk_files`
+/// names what each holds, when the model writes several) every `output.vtk` steps or none, and
+/// the files written at the end (`at_end`).
+pub fn write_outputs(s: &mut String, scene: &Scene, vtk_files: Option<&str>, at_end: &str) {
+    let vtk = match (scene.output.vtk, vtk_files) {
+        (0, _) => "no VTK".to_string(),
+        (every, Some(files)) => format!("VTK snapshot ({files}) every {every} steps"),
+        (every, None) => format!("VTK snapshot every {every} steps"),
+    };
+    let _ = writeln!(
+        s,
+        "outputs: series.csv row every {} steps, {vtk}, {at_end} at the end",
+        scene.output.every
+    );
+}

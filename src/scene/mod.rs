@@ -194,6 +194,36 @@ fn default_safety() -> f64 {
     0.2
 }
 
+impl TimeSpec {
+    /// The run's time step (s) from the model's own bound `bound` (s: the Rayleigh step, the
+    /// lattice's Eq. 39, the polygons' 2/ω): `safety` × `bound` under `dt = "auto"`, the
+    /// seconds given otherwise. Every model chooses its step here.
+    pub fn step(&self, bound: f64) -> f64 {
+        match self.dt {
+            DtSpec::Auto => self.safety * bound,
+            DtSpec::Seconds(s) => s,
+        }
+    }
+
+    /// The key that sets the step: `time.safety` under `dt = "auto"`, `time.dt` otherwise
+    /// (what a refusal of the step names).
+    pub fn step_key(&self) -> &'static str {
+        match self.dt {
+            DtSpec::Auto => "time.safety",
+            DtSpec::Seconds(_) => "time.dt",
+        }
+    }
+
+    /// The step as `explain` states it: `auto = <safety> x <bound>` (the model's words for its
+    /// bound) or the seconds given.
+    pub fn describe_step(&self, bound: &str) -> String {
+        match self.dt {
+            DtSpec::Auto => format!("auto = {} x {bound}", self.safety),
+            DtSpec::Seconds(v) => format!("{v:e} s"),
+        }
+    }
+}
+
 impl Default for TimeSpec {
     fn default() -> Self {
         TimeSpec {

@@ -8,7 +8,7 @@ use crate::bond::beam2d::Beams;
 use crate::error::Result;
 use crate::explain::write_pipeline;
 use crate::sample::lattice2d::Outline;
-use crate::scene::{DtSpec, IntegratorKind, Scene};
+use crate::scene::{IntegratorKind, Scene};
 use crate::state::polygons::Polygons;
 
 /// `fractum explain` for a beam2d scene: what it builds, without building the lattice.
@@ -88,30 +88,19 @@ pub fn explain(scene: &Scene) -> Result<String> {
         ),
     };
     let _ = writeln!(s, "loading: {loading}");
-    let dt = match scene.time.dt {
-        DtSpec::Auto => format!(
-            "auto = {} x the estimated stability limit 2/omega of the stiffest polygon",
-            scene.time.safety
-        ),
-        DtSpec::Seconds(v) => format!("{v:e} s"),
-    };
+    let dt = scene
+        .time
+        .describe_step("the estimated stability limit 2/omega of the stiffest polygon");
     let integrator = match scene.time.integrator {
         IntegratorKind::Gear5 => "Gear fifth-order predictor-corrector",
         _ => "velocity Verlet",
     };
-    let _ = writeln!(s, "integrator: {integrator}, dt {dt}");
-    let vtk = if scene.output.vtk > 0 {
-        format!(
-            "VTK snapshot (polygons, beams, broken_beams) every {} steps",
-            scene.output.vtk
-        )
-    } else {
-        "no VTK".to_string()
-    };
-    let _ = writeln!(
-        s,
-        "outputs: series.csv row every {} steps, {vtk}, summary.json, fragments.csv and fragment_histogram.csv at the end",
-        scene.output.every
+    crate::explain::write_integrator(&mut s, integrator, &dt);
+    crate::explain::write_outputs(
+        &mut s,
+        scene,
+        Some("polygons, beams, broken_beams"),
+        "summary.json, fragments.csv and fragment_histogram.csv",
     );
     Ok(s)
 }

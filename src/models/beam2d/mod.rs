@@ -39,7 +39,7 @@ use crate::sample::lattice2d::{
     LatticeInfo, LatticeShape, LatticeSpec, Outline, PolygonSample, STREAM_LATTICE,
     vectorizable_random_lattice,
 };
-use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
+use crate::scene::{EffectKind, IntegratorKind, Scene};
 use crate::shape::polygon::Vec2;
 use crate::state::Vec3;
 use crate::state::polygons::Polygons;
@@ -451,10 +451,7 @@ impl Model for Beam2d {
         let loading = Beam2dLoading::prepare(scene, &cfg, &mut sample)?;
         let beams = make_beams(scene, &cfg, &sample);
         let dt_critical = critical_time_step(scene, &cfg, &sample, &beams);
-        let dt = match scene.time.dt {
-            DtSpec::Auto => scene.time.safety * dt_critical,
-            DtSpec::Seconds(s) => s,
-        };
+        let dt = scene.time.step(dt_critical);
         if !dt.is_finite() {
             return Err(scene.key_error(
                 "time.dt",
@@ -477,12 +474,8 @@ impl Model for Beam2d {
         // above it stability is not assured and was seen to fail (explosion_disc at 1.9x:
         // kinetic energy 10x its initial value). Refused rather than warned.
         if dt > dt_critical {
-            let key = match scene.time.dt {
-                DtSpec::Auto => "time.safety",
-                DtSpec::Seconds(_) => "time.dt",
-            };
             return Err(scene.key_error(
-                key,
+                scene.time.step_key(),
                 format!(
                     "gives a step of {dt:e} s, above the stability limit {dt_critical:.4e} s of the stiffest polygon (2/ω with ω² = 2 Σk/m over its beams and side contacts, a bound): set time.dt to at most {dt_critical:.3e} s"
                 ),

@@ -6,7 +6,7 @@ use super::loading::arc_factor;
 use super::scene::{DlsmScene, LoadBy, LoadingKind};
 use super::{DEFAULT_PHI, JAW_RADIUS, sample};
 use crate::error::Result;
-use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
+use crate::scene::{EffectKind, IntegratorKind, Scene};
 
 /// `fractum explain` for a dlsm scene: what it builds, without building the sample.
 pub fn explain(scene: &Scene) -> Result<String> {
@@ -148,26 +148,10 @@ pub fn explain(scene: &Scene) -> Result<String> {
         ),
         _ => "velocity Verlet (phi = 0.5)".to_string(),
     };
-    let dt = match scene.time.dt {
-        DtSpec::Auto => format!(
-            "{} x min sqrt(m_ij L0 / (E S)) over the contacts (Eq. 39)",
-            scene.time.safety
-        ),
-        DtSpec::Seconds(v) => format!("{v:e} s"),
-    };
-    let _ = writeln!(s, "integrator: {integrator}, dt {dt}");
-    let vtk = if scene.output.vtk > 0 {
-        format!(
-            "VTK snapshot (elements.pvd) every {} steps",
-            scene.output.vtk
-        )
-    } else {
-        "no VTK".to_string()
-    };
-    let _ = writeln!(
-        s,
-        "outputs: series.csv row every {} steps, {vtk}, summary.json at the end",
-        scene.output.every
-    );
+    let dt = scene
+        .time
+        .describe_step("min sqrt(m_ij L0 / (E S)) over the contacts (Eq. 39)");
+    crate::explain::write_integrator(&mut s, &integrator, &dt);
+    crate::explain::write_outputs(&mut s, scene, Some("elements.pvd"), "summary.json");
     Ok(s)
 }

@@ -193,10 +193,7 @@ impl Dlsm {
         {
             dt_limit = dt_limit.min(arc.step_bound(bodies));
         }
-        let dt = match scene.time.dt {
-            DtSpec::Auto => scene.time.safety * dt_limit,
-            DtSpec::Seconds(v) => v,
-        };
+        let dt = scene.time.step(dt_limit);
         let phi = match scene.time.integrator {
             IntegratorKind::TchamwaWielgosz => scene.time.phi.unwrap_or(DEFAULT_PHI),
             _ => 0.5,

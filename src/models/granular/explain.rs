@@ -2,10 +2,10 @@
 
 use std::fmt::Write;
 
-use super::scene::{EFFECTS, GrainShape, GranularScene, LoadingKind, SampleKind};
+use super::scene::{EFFECTS, GrainShape, GranularScene, SampleKind};
 use crate::error::Result;
 use crate::explain::write_pipeline;
-use crate::scene::{DtSpec, EffectKind, Scene};
+use crate::scene::{EffectKind, Scene};
 
 /// A human-readable account of the scene: sample, force pipeline (and what is left out),
 /// loading, time step and outputs.
@@ -33,47 +33,20 @@ pub fn explain(scene: &Scene) -> Result<String> {
     if scene.has_effect(EffectKind::Fracture) {
         let _ = writeln!(s, "after each step: {}", describe_fracture(scene, &cfg));
     }
-    let l = &cfg.loading;
-    let loading = match l.kind {
-        LoadingKind::None => format!(
-            "none: walls fixed for {:e} s",
-            l.end_time.unwrap_or_default()
-        ),
-        LoadingKind::Oedometer => format!(
-            "oedometer: top wall (z+) driven down at {} 1/s to axial strain {}; the other five walls fixed",
-            l.strain_rate.unwrap_or_default(),
-            l.end_strain.unwrap_or_default()
-        ),
-        LoadingKind::Platens => format!(
-            "platens: top wall (z+) driven down at {} m/s for {:e} m; the bottom fixed",
-            l.speed.unwrap_or_default(),
-            l.end_displacement.unwrap_or_default()
-        ),
-    };
-    let _ = writeln!(s, "loading: {loading}");
-    let dt = match scene.time.dt {
-        DtSpec::Auto if scene.has_effect(EffectKind::Fracture) => format!(
-            "auto = {s} x the Rayleigh critical step of half the smallest sphere (the pieces), shortened as pieces appear to keep the bound on the highest contact frequency at omega dt <= {:.3} (3 x {s})",
+    let _ = writeln!(s, "loading: {}", super::Loading::describe(&cfg.loading));
+    let dt = if scene.has_effect(EffectKind::Fracture) {
+        scene.time.describe_step(&format!(
+            "the Rayleigh critical step of half the smallest sphere (the pieces), shortened as pieces appear to keep the bound on the highest contact frequency at omega dt <= {:.3} (3 x {})",
             super::ADAPT_PER_SAFETY * scene.time.safety,
-            s = scene.time.safety,
-        ),
-        DtSpec::Auto => format!(
-            "auto = {} x the Rayleigh critical step of the smallest sphere",
-            scene.time.safety
-        ),
-        DtSpec::Seconds(v) => format!("{v:e} s"),
-    };
-    let _ = writeln!(s, "integrator: velocity Verlet, dt {dt}");
-    let vtk = if scene.output.vtk > 0 {
-        format!("VTK snapshot every {} steps", scene.output.vtk)
+            scene.time.safety,
+        ))
     } else {
-        "no VTK".to_string()
+        scene
+            .time
+            .describe_step("the Rayleigh critical step of the smallest sphere")
     };
-    let _ = writeln!(
-        s,
-        "outputs: series.csv row every {} steps, {vtk}, summary.json at the end",
-        scene.output.every
-    );
+    crate::explain::write_integrator(&mut s, "velocity Verlet", &dt);
+    crate::explain::write_outputs(&mut s, scene, None, "summary.json");
     Ok(s)
 }
 

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::{GranularScene, LoadingKind};
+use super::scene::{GranularScene, LoadingKind, LoadingSpec};
 use crate::error::Result;
 use crate::probe::Series;
 use crate::probe::fit::least_squares_slope;
@@ -108,25 +108,23 @@ impl Loading {
         }
     }
 
-    pub fn describe(&self) -> String {
-        match self {
-            Loading::None { end_time } => format!("none: walls fixed for {end_time:e} s"),
-            Loading::Oedometer {
-                strain_rate,
-                end_strain,
-                height0,
-            } => format!(
-                "oedometer: top wall (z+) moves down at {strain_rate} 1/s x {height0:e} m = {:e} m/s to axial strain {end_strain}; the other five walls are fixed",
-                strain_rate * height0
+    /// The loading as `fractum explain` states it, from the scene's `[loading]` table (the
+    /// sample, which sets the oedometer's speed, is not built to explain it).
+    pub fn describe(l: &LoadingSpec) -> String {
+        match l.kind {
+            LoadingKind::None => format!(
+                "none: walls fixed for {:e} s",
+                l.end_time.unwrap_or_default()
             ),
-            Loading::Faces { top, bottom } => format!(
-                "faces driven from outside: top (z+) at {top} m/s and bottom (z-) at {bottom} m/s into the sample"
+            LoadingKind::Oedometer => format!(
+                "oedometer: top wall (z+) driven down at {} 1/s to axial strain {}; the other five walls fixed",
+                l.strain_rate.unwrap_or_default(),
+                l.end_strain.unwrap_or_default()
             ),
-            Loading::Platens {
-                speed,
-                end_displacement,
-            } => format!(
-                "platens: top (z+) moves down at {speed} m/s for {end_displacement:e} m; the bottom is fixed"
+            LoadingKind::Platens => format!(
+                "platens: top wall (z+) driven down at {} m/s for {:e} m; the bottom fixed",
+                l.speed.unwrap_or_default(),
+                l.end_displacement.unwrap_or_default()
             ),
         }
     }

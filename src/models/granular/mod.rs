@@ -266,10 +266,7 @@ impl Granular {
         let fracture = scene.has_effect(EffectKind::Fracture);
         let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
         let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson());
-        let dt = match scene.time.dt {
-            DtSpec::Auto => scene.time.safety * dt_rayleigh,
-            DtSpec::Seconds(s) => s,
-        };
+        let dt = scene.time.step(dt_rayleigh);
         crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
         let end = end_step(loading.end_time(), dt);
         let mut columns: Vec<&'static str> = if matches!(loading, Loading::Platens { .. }) {
