@@ -8,24 +8,25 @@ use std::path::PathBuf;
 use std::time::Instant;
 
 use fractum::Scene;
+use fractum::bench::{Timed, table};
 use fractum::models::beam2d::Beam2dRun;
-use fractum::models::beam2d::bench::{PolygonCase, polygon_table, time_beam2d_scene};
+use fractum::models::beam2d::bench::time_beam2d_scene;
 
 fn scenes() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes")
 }
 
 fn main() {
-    let mut cases: Vec<PolygonCase> = Vec::new();
+    let mut cases: Vec<Timed> = Vec::new();
     for file in ["explosion_disc.toml", "impact_block.toml"] {
         for threads in [1, 2] {
             match time_beam2d_scene(&scenes().join(file), &[], threads) {
                 Ok(c) => {
                     eprintln!(
                         "{} on {} thread(s): {:.3e} polygon-steps/s",
-                        c.scene,
+                        c.case,
                         c.threads,
-                        c.polygon_steps_per_second()
+                        c.body_steps_per_second()
                     );
                     cases.push(c);
                 }
@@ -33,7 +34,7 @@ fn main() {
             }
         }
     }
-    println!("{}", polygon_table(&cases));
+    println!("{}", table("polygon", &cases));
     println!("{}", accuracy_table());
 }
 

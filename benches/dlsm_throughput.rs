@@ -12,7 +12,7 @@ fn main() {
         sizes
     };
     match fractum::models::dlsm::bench::run(&sizes, &[1, 2], 500) {
-        Ok(cases) => println!("{}", fractum::models::dlsm::bench::table(&cases)),
+        Ok(cases) => println!("{}", fractum::bench::table("element", &cases)),
         Err(e) => eprintln!("error: {e}"),
     }
 }

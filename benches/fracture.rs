@@ -23,7 +23,7 @@ fn main() {
     }
     println!(
         "poly-ellipsoids, axis ratios 1 to 2:\n{}",
-        fractum::models::granular::bench::table(&cases)
+        fractum::bench::table("particle", &cases)
     );
     let scene = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/shpb_sand.toml");
     let overrides = [

@@ -5,7 +5,7 @@ fn main() {
     let cache = fractum::models::granular::bench::default_cache();
     let mut note = |m: &str| eprintln!("{m}");
     match fractum::models::granular::bench::run(&[1000, 8000], &[1, 2], 3000, &cache, &mut note) {
-        Ok(cases) => println!("{}", fractum::models::granular::bench::table(&cases)),
+        Ok(cases) => println!("{}", fractum::bench::table("particle", &cases)),
         Err(e) => eprintln!("error: {e}"),
     }
 }

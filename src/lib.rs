@@ -9,6 +9,7 @@
 //! SI units throughout. See docs/architecture.md for the map of the code.
 
 pub mod accuracy;
+pub mod bench;
 pub mod bond;
 pub mod contact;
 pub mod driver;

@@ -234,7 +234,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             let mut note = |m: &str| eprintln!("{m}");
             let cases =
                 fractum::models::granular::bench::run(&bodies, &threads, steps, &cache, &mut note)?;
-            println!("{}", fractum::models::granular::bench::table(&cases));
+            println!("{}", fractum::bench::table("particle", &cases));
             Ok(())
         }
     }

@@ -5,6 +5,7 @@ use std::path::Path;
 use std::time::Instant;
 
 use super::DlsmRun;
+use crate::bench::Timed;
 use crate::error::Result;
 use crate::scene::Scene;
 
@@ -42,23 +43,8 @@ every = 1000000000
 }
 
 /// One timed case.
-#[derive(Debug, Clone)]
-pub struct DlsmBenchCase {
-    pub elements: usize,
-    pub contacts: usize,
-    pub threads: usize,
-    pub steps: u64,
-    pub seconds: f64,
-}
-
-impl DlsmBenchCase {
-    pub fn element_steps_per_second(&self) -> f64 {
-        self.elements as f64 * self.steps as f64 / self.seconds
-    }
-}
-
 /// Times `steps` steps (after 20 warm-up steps) for every element count and thread count.
-pub fn run(elements: &[usize], threads: &[usize], steps: u64) -> Result<Vec<DlsmBenchCase>> {
+pub fn run(elements: &[usize], threads: &[usize], steps: u64) -> Result<Vec<Timed>> {
     let mut cases = Vec::new();
     for &n in elements {
         let scene = Scene::from_toml(&scene_text(n), "dlsm_bench", Path::new("."), &[])?;
@@ -75,9 +61,10 @@ pub fn run(elements: &[usize], threads: &[usize], steps: u64) -> Result<Vec<Dlsm
             run.advance(20)?;
             let start = Instant::now();
             run.advance(steps)?;
-            cases.push(DlsmBenchCase {
-                elements: run.bodies.len(),
-                contacts: run.bonds.contacts(),
+            cases.push(Timed {
+                case: format!("lattice of {n} elements"),
+                bodies: run.bodies.len(),
+                contacts: Some(run.bonds.contacts()),
                 threads: t,
                 steps,
                 seconds: start.elapsed().as_secs_f64(),
@@ -85,23 +72,4 @@ pub fn run(elements: &[usize], threads: &[usize], steps: u64) -> Result<Vec<Dlsm
         }
     }
     Ok(cases)
-}
-
-/// The results as a Markdown table.
-pub fn table(cases: &[DlsmBenchCase]) -> String {
-    let mut s = String::from(
-        "| elements | contacts | threads | steps | wall s | element-steps/s |\n|---:|---:|---:|---:|---:|---:|\n",
-    );
-    for c in cases {
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3e} |\n",
-            c.elements,
-            c.contacts,
-            c.threads,
-            c.steps,
-            c.seconds,
-            c.element_steps_per_second()
-        ));
-    }
-    s
 }

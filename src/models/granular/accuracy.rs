@@ -110,6 +110,23 @@ fn run_scene(
     finish(&mut sim)
 }
 
+/// The step sweep of both head-on impacts (the step over the Rayleigh step; `quick`: the
+/// small sweep), against the `reference` they share at every step.
+fn impact_plan(quick: bool, reference: &'static str) -> Plan {
+    let steps: &[f64] = if quick {
+        &[1.0, 0.2, 0.05]
+    } else {
+        &[1.0, 0.5, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01]
+    };
+    Plan {
+        settings: steps.iter().copied().map(Setting::step).collect(),
+        reference: Reference::Known(reference),
+    }
+}
+
+/// What the SHPB case compares with, in both sweeps.
+const SHPB_ENSEMBLE: &str = "5-seed means at safety 0.05, 6 mm box: 69.2 MPa at 0.1 strain, 247.8 at 0.2 (docs/performance.md)";
+
 /// The granular model's accuracy cases.
 pub fn cases() -> Vec<Case> {
     let rayleigh = crate::integrate::rayleigh_time_step(R, RHO, E, NU);
@@ -120,16 +137,8 @@ pub fn cases() -> Vec<Case> {
             resolution_key: None,
             step_key: "dt/rayleigh",
             target: 0.01,
-            full: Plan {
-                settings: [1.0, 0.5, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01]
-                    .map(Setting::step)
-                    .to_vec(),
-                reference: Reference::Known("Hertz theory, 1.72 µs"),
-            },
-            quick: Plan {
-                settings: [1.0, 0.2, 0.05].map(Setting::step).to_vec(),
-                reference: Reference::Known("Hertz theory, 1.72 µs"),
-            },
+            full: impact_plan(false, "Hertz theory, 1.72 µs"),
+            quick: impact_plan(true, "Hertz theory, 1.72 µs"),
             measure: Box::new(move |s, threads, _| {
                 let (t, _) = impact("\"contact\"", s.step * rayleigh, threads)?;
                 let t = t.ok_or_else(|| Error::run("the spheres did not part"))?;
@@ -145,16 +154,8 @@ pub fn cases() -> Vec<Case> {
             resolution_key: None,
             step_key: "dt/rayleigh",
             target: 0.01,
-            full: Plan {
-                settings: [1.0, 0.5, 0.3, 0.2, 0.1, 0.05, 0.02, 0.01]
-                    .map(Setting::step)
-                    .to_vec(),
-                reference: Reference::Known("material.restitution = 0.5"),
-            },
-            quick: Plan {
-                settings: [1.0, 0.2, 0.05].map(Setting::step).to_vec(),
-                reference: Reference::Known("material.restitution = 0.5"),
-            },
+            full: impact_plan(false, "material.restitution = 0.5"),
+            quick: impact_plan(true, "material.restitution = 0.5"),
             measure: Box::new(move |s, threads, _| {
                 let (_, e) = impact("\"contact\", \"damping\"", s.step * rayleigh, threads)?;
                 Ok(one(2, vec![Quantity::against("restitution", e, 0.5)]))
@@ -252,15 +253,11 @@ pub fn cases() -> Vec<Case> {
                     Setting::new(6e-3, 0.4),
                     Setting::new(6e-3, 0.2),
                 ],
-                reference: Reference::Known(
-                    "5-seed means at safety 0.05, 6 mm box: 69.2 MPa at 0.1 strain, 247.8 at 0.2 (docs/performance.md)",
-                ),
+                reference: Reference::Known(SHPB_ENSEMBLE),
             },
             quick: Plan {
                 settings: vec![Setting::new(4e-3, 0.4)],
-                reference: Reference::Known(
-                    "5-seed means at safety 0.05, 6 mm box: 69.2 MPa at 0.1 strain, 247.8 at 0.2 (docs/performance.md)",
-                ),
+                reference: Reference::Known(SHPB_ENSEMBLE),
             },
             measure: Box::new(|s, threads, quick| {
                 // Quick: two seeds of a 4 mm box (about 290 grains).

@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::Simulation;
 use super::scene::GranularScene;
+use crate::bench::Timed;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
 use crate::sample::Sample;
@@ -45,22 +46,6 @@ safety = 0.3
 every = 1000000000
 "#
     )
-}
-
-/// One timed case.
-#[derive(Debug, Clone)]
-pub struct BenchCase {
-    pub bodies: usize,
-    pub threads: usize,
-    pub steps: u64,
-    pub seconds: f64,
-    pub contacts: usize,
-}
-
-impl BenchCase {
-    pub fn particle_steps_per_second(&self) -> f64 {
-        self.bodies as f64 * self.steps as f64 / self.seconds
-    }
 }
 
 /// A jammed packing of `bodies` spheres at 100 kPa, made once and cached as a text packing
@@ -105,29 +90,31 @@ pub fn dense_packing(
 }
 
 /// Times `steps` steps (after 200 warm-up steps) of the packing on `threads` threads.
-pub fn time_case(sample: &Sample, bodies: usize, threads: usize, steps: u64) -> Result<BenchCase> {
+pub fn time_case(sample: &Sample, bodies: usize, threads: usize, steps: u64) -> Result<Timed> {
     let scene = Scene::from_toml(&scene_text(bodies), "bench", Path::new("."), &[])?;
     time_sample(scene, sample, threads, steps)
 }
 
 /// Times `steps` steps of (a copy of) `sample` under `scene` after 200 warm-up steps.
-fn time_sample(scene: Scene, sample: &Sample, threads: usize, steps: u64) -> Result<BenchCase> {
+fn time_sample(scene: Scene, sample: &Sample, threads: usize, steps: u64) -> Result<Timed> {
     let copy = Sample {
         bodies: sample.bodies.clone(),
         walls: sample.walls.clone(),
         info: sample.info.clone(),
     };
+    let scene_name = scene.name.clone();
     let mut sim = Simulation::from_sample(scene, copy, threads)?;
     sim.advance(200)?;
     let start = Instant::now();
     sim.advance(steps)?;
     let seconds = start.elapsed().as_secs_f64();
-    Ok(BenchCase {
+    Ok(Timed {
+        case: scene_name,
         bodies: sim.bodies.len(),
+        contacts: Some(sim.pipeline.contacts()),
         threads,
         steps,
         seconds,
-        contacts: sim.pipeline.contacts(),
     })
 }
 
@@ -143,7 +130,7 @@ pub fn run(
     steps: u64,
     cache: &Path,
     progress: &mut (dyn FnMut(&str) + Send),
-) -> Result<Vec<BenchCase>> {
+) -> Result<Vec<Timed>> {
     let mut cases = Vec::new();
     for &n in sizes {
         let sample = dense_packing(n, cache, progress)?;
@@ -153,31 +140,12 @@ pub fn run(
                 "{} bodies, {} thread(s): {:.3e} particle-steps/s",
                 case.bodies,
                 case.threads,
-                case.particle_steps_per_second()
+                case.body_steps_per_second()
             ));
             cases.push(case);
         }
     }
     Ok(cases)
-}
-
-/// The results as a Markdown table.
-pub fn table(cases: &[BenchCase]) -> String {
-    let mut s = String::from(
-        "| bodies | threads | contacts | steps | wall s | particle-steps/s |\n|---:|---:|---:|---:|---:|---:|\n",
-    );
-    for c in cases {
-        s.push_str(&format!(
-            "| {} | {} | {} | {} | {:.3} | {:.3e} |\n",
-            c.bodies,
-            c.threads,
-            c.contacts,
-            c.steps,
-            c.seconds,
-            c.particle_steps_per_second()
-        ));
-    }
-    s
 }
 
 // granular fracture: poly-ellipsoid contact throughput and the SHPB scene's cost per strain.
@@ -207,7 +175,7 @@ pub fn time_poly_ellipsoid_case(
     sample: &Sample,
     threads: usize,
     steps: u64,
-) -> Result<BenchCase> {
+) -> Result<Timed> {
     time_sample(scene.clone(), sample, threads, steps)
 }
 
