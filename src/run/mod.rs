@@ -40,6 +40,32 @@ pub struct Clock {
     pub dt: f64,
     /// The step at which the run ends (`u64::MAX`: driven from outside, no end of its own).
     pub end_step: u64,
+    /// The time (s) at which the run ends (infinite: driven from outside): a new step keeps
+    /// it ([`Clock::set_dt`]).
+    pub end_time: f64,
+}
+
+impl Clock {
+    /// Steps of `dt` (s) from now on: the run still ends at its end time, in steps of the new
+    /// length, none once the end time is reached (a shortening at the last step used to add
+    /// one step, and another at that one another: runs overran their end strain).
+    pub fn set_dt(&mut self, dt: f64) {
+        self.dt = dt;
+        if self.end_step == u64::MAX {
+            return;
+        }
+        let remaining = self.end_time - self.time;
+        self.end_step = if remaining > 1e-9 * dt {
+            self.step.saturating_add(end_step(remaining, dt))
+        } else {
+            self.step
+        };
+    }
+
+    /// The time (s) left to the end.
+    pub fn remaining(&self) -> f64 {
+        self.end_time - self.time
+    }
 }
 
 /// The most steps a run may plan to its end: at a microsecond per step (a tiny scene) that is
@@ -134,9 +160,10 @@ pub fn end_step(end_time: f64, dt: f64) -> u64 {
 /// A model as built from its scene, with what the runner needs to start it.
 pub struct Built<M> {
     pub model: M,
-    /// Time step (s) and the step at which the run ends.
+    /// Time step (s), the step and the time (s) at which the run ends.
     pub dt: f64,
     pub end_step: u64,
+    pub end_time: f64,
     /// The columns of series.csv.
     pub columns: Vec<&'static str>,
     /// Warnings found while building.
@@ -434,7 +461,7 @@ const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// Brazilian loading its arcs' pressure.
 /// 4: the state names the scene it belongs to ([`SceneIdentity`]); grain fracture keeps the
 /// seed of its keyed draws instead of a sequential stream.
-const STATE_VERSION: u32 = 4;
+const STATE_VERSION: u32 = 5;
 
 /// Which scene a saved state belongs to: a state restored under another scene took that
 /// scene's parameters with its own bodies (a dlsm state of E = 1 GPa went on under a handle of
@@ -550,6 +577,7 @@ impl<M: Model> Runner<M> {
                 step: 0,
                 dt: built.dt,
                 end_step: built.end_step,
+                end_time: built.end_time,
             },
             series: Series::new(&built.columns),
             warnings: built.warnings,
@@ -904,6 +932,7 @@ impl<M: Model> Run for Runner<M> {
         })?;
         faces.set_face_speeds(top, bottom)?;
         self.clock.end_step = u64::MAX;
+        self.clock.end_time = f64::INFINITY;
         Ok(())
     }
 }

@@ -485,6 +485,7 @@ impl Model for Beam2d {
         let columns = loading.columns().to_vec();
         crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
         let end_step = loading.end_step(dt);
+        let end_time = loading.end_time();
         let state = Beam2dState {
             forces: vec![[0.0; 3]; polygons.len()],
             momentum0: polygons.momentum(),
@@ -512,6 +513,7 @@ impl Model for Beam2d {
             model,
             dt,
             end_step,
+            end_time,
             columns,
             warnings,
         })

@@ -443,12 +443,14 @@ impl Model for Dlsm {
         model.check_step(scene, dt)?;
         let columns = model.state.loading.columns();
         crate::run::check_planned_steps(scene, model.state.loading.end_time(), dt)?;
-        let end = end_step(model.state.loading.end_time(), dt);
+        let end_time = model.state.loading.end_time();
+        let end = end_step(end_time, dt);
         let start = Clock {
             time: 0.0,
             step: 0,
             dt,
             end_step: end,
+            end_time,
         };
         model.state.loading.prescribe(&mut model.state.bodies, 0.0);
         model.evaluate_forces(&start, 0.0);
@@ -456,6 +458,7 @@ impl Model for Dlsm {
             model,
             dt,
             end_step: end,
+            end_time,
             columns,
             warnings,
         })

@@ -269,6 +269,7 @@ impl Granular {
         let dt = scene.time.step(dt_rayleigh);
         crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
         let end = end_step(loading.end_time(), dt);
+        let end_time = loading.end_time();
         let mut columns: Vec<&'static str> = if matches!(loading, Loading::Platens { .. }) {
             probe::PLATEN_COLUMNS.to_vec()
         } else if walls.is_box {
@@ -311,6 +312,7 @@ impl Granular {
             model,
             dt,
             end_step: end,
+            end_time,
             columns,
             warnings: Vec::new(),
         })
@@ -466,17 +468,9 @@ impl Granular {
             return;
         };
         let before = clock.dt;
-        clock.dt = dt;
+        clock.set_dt(dt);
         self.state.dt_shortened += 1;
-        // The run still ends at the end time: the remaining time in steps of the new length,
-        // none once the end time is reached (a shortening at the last step used to add one
-        // step, and another at that one another: runs overran their end strain).
-        let remaining = self.state.loading.end_time() - clock.time;
-        clock.end_step = if remaining > 1e-9 * clock.dt {
-            clock.step.saturating_add(end_step(remaining, clock.dt))
-        } else {
-            clock.step
-        };
+        let remaining = clock.remaining();
         // The limit of steps the build checks holds for the steps left after a shortening
         // too: a step that collapses (stiffening contacts the step cannot follow) used to leave
         // a run that went on for ever without a word.
