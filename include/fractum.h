@@ -796,6 +796,13 @@ enum FractumStatus fractum_kernel_spring(struct FractumSpring *s,
 // host that must prepare a split (LAMMPS: a reneighbouring) asks first. A sphere can.
 enum FractumStatus fractum_kernel_can_break(const struct FractumBody *b, int32_t *can);
 
+// The cohesive energy G_c = K_Ic² (1 − ν²) / E (J/m², Eq. 38) of a material of toughness
+// `toughness` (Pa m^0.5), Young's modulus `young` (Pa) and Poisson's ratio `poisson`.
+enum FractumStatus fractum_kernel_cohesive_energy(double toughness,
+                                                  double young,
+                                                  double poisson,
+                                                  double *gc);
+
 // Velocity Verlet's first half kick and drift of one grain over `dt` (s), as Fractum's
 // integrator moves each body (`velocity_verlet::kick_drift_body`, orientations tracked):
 // `b`'s velocity, position, angular velocity and orientation advance under `force` (3
@@ -851,13 +858,6 @@ enum FractumStatus fractum_kernel_kick(struct FractumBody *b,
                                        const double *force,
                                        const double *torque,
                                        double dt);
-
-// The cohesive energy G_c = K_Ic² (1 − ν²) / E (J/m², Eq. 38) of a material of toughness
-// `toughness` (Pa m^0.5), Young's modulus `young` (Pa) and Poisson's ratio `poisson`.
-enum FractumStatus fractum_kernel_cohesive_energy(double toughness,
-                                                  double young,
-                                                  double poisson,
-                                                  double *gc);
 
 #ifdef __cplusplus
 }  // extern "C"
