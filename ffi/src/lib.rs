@@ -40,11 +40,11 @@ struct Sim(Box<dyn Run>);
 
 impl Sim {
     fn build(scene: Scene, threads: usize) -> fractum::Result<Sim> {
-        Ok(Sim(fractum::models::build(scene, threads, &mut |_| {})?))
+        Ok(Sim(fractum::build(scene, threads, &mut |_| {})?))
     }
 
     fn restore(scene: Scene, bytes: &[u8], threads: usize) -> fractum::Result<Sim> {
-        Ok(Sim(fractum::models::restore(scene, bytes, threads)?))
+        Ok(Sim(fractum::restore(scene, bytes, threads)?))
     }
 
     fn run(&self) -> &dyn Run {

@@ -7,7 +7,7 @@ use fractum::contact::convex::{self, ContactGeometry, Placed};
 use fractum::contact::hertz_mindlin::{
     ContactForce, Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
 };
-use fractum::effects::contact::{
+use fractum::contact::pair::{
     BodyView, ContactBody, PairMemory, PairOut, Placement, bound_off_wall, bounds_apart, forget,
     pair_contact_or_gap, pair_reach, skips, travel_step, wall_contact,
 };
@@ -409,7 +409,7 @@ fn pair_of(
 /// How far body `after` may have moved since it was `before` (the same body one drift
 /// later; m), added to `*travel`: the centroid's path plus the bounding radius times a bound
 /// on the angle turned, as Fractum's contact effect sums each body's motion for the
-/// separated pairs' skip (`fractum::effects::contact::travel_step`). `fractum_kernel_pair_row`
+/// separated pairs' skip (`fractum::contact::pair::travel_step`). `fractum_kernel_pair_row`
 /// reads the sums.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_travel(

@@ -39,7 +39,7 @@ pub extern "C" fn fractum_kernel_kick_drift(
 }
 
 /// One contact's share of body `a`'s row in Fractum's frequency bound (rad²/s²), as its step
-/// adaptation sums it (`effects::contact::frequency_share` of the `contact_load`s): the
+/// adaptation sums it (`contact::records::frequency_share` of the `contact_load`s): the
 /// contact `c` (its point, normal and stiffness) under `law` (friction adds the tangential
 /// spring) loads `a` (its centre, orientation, mass and principal moments are read) and its
 /// partner `b` (NULL for a wall). A body's row sums the shares of its contacts, walls
@@ -58,7 +58,7 @@ pub extern "C" fn fractum_kernel_frequency_share(
         let share = get_mut(share)?;
         let own = body_load(law, c, a)?;
         let other = b.map(|b| body_load(law, c, b)).transpose()?;
-        *share = fractum::effects::contact::frequency_share(own, other);
+        *share = fractum::contact::records::frequency_share(own, other);
         Ok(())
     })
 }
@@ -79,13 +79,13 @@ pub extern "C" fn fractum_kernel_frequency_shares(
         let (law, c, a, b) = (get(law)?, get(c)?, get(a)?, get(b)?);
         let (share_a, share_b) = (get_mut(share_a)?, get_mut(share_b)?);
         let (la, lb) = (body_load(law, c, a)?, body_load(law, c, b)?);
-        *share_a = fractum::effects::contact::frequency_share(la, Some(lb));
-        *share_b = fractum::effects::contact::frequency_share(lb, Some(la));
+        *share_a = fractum::contact::records::frequency_share(la, Some(lb));
+        *share_b = fractum::contact::records::frequency_share(lb, Some(la));
         Ok(())
     })
 }
 
-/// Contact `c`'s load on `body` (`fractum::effects::contact::contact_load`), its mass and
+/// Contact `c`'s load on `body` (`fractum::contact::records::contact_load`), its mass and
 /// moments checked positive.
 fn body_load(
     law: &FractumContactLaw,
@@ -93,7 +93,7 @@ fn body_load(
     body: &FractumBody,
 ) -> Result<f64, FractumStatus> {
     let tangential = if law.friction != 0 {
-        fractum::effects::contact::tangential_ratio(law.eight_g, law.two_e)
+        fractum::contact::records::tangential_ratio(law.eight_g, law.two_e)
     } else {
         0.0
     };
@@ -101,7 +101,7 @@ fn body_load(
     // NaN fails every comparison: refused with the non-positive values.
     let positive = |v: f64| v > 0.0;
     input_if(!positive(body.mass) || !inertia.iter().all(|&m| positive(m)))?;
-    Ok(fractum::effects::contact::contact_load(
+    Ok(fractum::contact::records::contact_load(
         &Vec3::from(c.point),
         &Vec3::from(c.normal),
         c.stiffness,
@@ -113,7 +113,7 @@ fn body_load(
     ))
 }
 
-/// Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
+/// Fractum's step adaptation for fracture runs (`integrate::adapted_step`): with `sum` the
 /// largest row of the frequency bound (`fractum_kernel_frequency_share` summed over a body's
 /// contacts) over all bodies, `*next` = the step to take after `dt` (s): `dt` shortened so
 /// that `omega dt` is `target` when it is above that (omega = sqrt(sum)), else `dt` unchanged.
@@ -129,8 +129,8 @@ pub extern "C" fn fractum_kernel_adapted_step(
     kernel(|| {
         let valid = sum >= 0.0 && dt > 0.0 && target > 0.0; // false for NaN too
         input_if(!valid)?;
-        let omega = fractum::effects::contact::frequency_bound(sum);
-        *get_mut(next)? = fractum::models::granular::adapted_step(omega, dt, target).unwrap_or(dt);
+        let omega = fractum::contact::records::frequency_bound(sum);
+        *get_mut(next)? = fractum::integrate::adapted_step(omega, dt, target).unwrap_or(dt);
         Ok(())
     })
 }
@@ -138,7 +138,7 @@ pub extern "C" fn fractum_kernel_adapted_step(
 /// Fractum's check of a step against its contacts, as its granular run makes it: with `sum`
 /// the largest row of the frequency bound over all bodies (as for
 /// `fractum_kernel_adapted_step`), `*omega_dt` = omega dt and `*verdict` = 2 when the step is
-/// unstable (`granular::step_verdict`: omega dt above 2, the run stops), 1 when contacts are
+/// unstable (`integrate::step_verdict`: omega dt above 2, the run stops), 1 when contacts are
 /// resolved by few steps (above 1.6: a warning), else 0.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_kernel_step_check(
@@ -150,8 +150,8 @@ pub extern "C" fn fractum_kernel_step_check(
     kernel(|| {
         input_if(!(sum >= 0.0 && dt > 0.0 && dt.is_finite()))?;
         let (omega_dt, verdict) = (get_mut(omega_dt)?, get_mut(verdict)?);
-        *omega_dt = fractum::effects::contact::frequency_bound(sum) * dt;
-        use fractum::models::granular::{StepVerdict, step_verdict};
+        *omega_dt = fractum::contact::records::frequency_bound(sum) * dt;
+        use fractum::integrate::{StepVerdict, step_verdict};
         *verdict = match step_verdict(*omega_dt) {
             StepVerdict::Fine => 0,
             StepVerdict::Coarse => 1,

@@ -1,6 +1,6 @@
 //! Kernel exports: the per-contact and per-grain functions of Fractum's granular model, for
 //! hosts that keep their own particles (a LAMMPS plugin). Each one wraps the library
-//! function that Fractum's own run calls (`fractum::effects::contact::pair_contact`,
+//! function that Fractum's own run calls (`fractum::contact::pair::pair_contact`,
 //! `fractum::fracture::split_grain`, ...), so a host gets the same bits Fractum computes.
 //!
 //! Every kernel returns a `FractumStatus`: `FRACTUM_ERR_NULL` on a null pointer,

@@ -35,7 +35,7 @@ fn step_check_gives_the_runs_verdicts() {
 /// as `records_max_frequency` reads it), and the adapted step.
 #[test]
 fn frequency_share_and_adapted_step_give_the_library_bits() {
-    use fractum::effects::contact::{
+    use fractum::contact::records::{
         ContactRecord, WALL, frequency_bound, records_max_frequency, tangential_ratio,
     };
     let mut d = Draw::new(9);
@@ -99,7 +99,7 @@ fn frequency_share_and_adapted_step_give_the_library_bits() {
                     fractum_kernel_adapted_step(sum, dt, 0.6, &mut next),
                     FRACTUM_OK
                 );
-                let lib = fractum::models::granular::adapted_step(omega, dt, 0.6);
+                let lib = fractum::integrate::adapted_step(omega, dt, 0.6);
                 assert_eq!(next.to_bits(), lib.unwrap_or(dt).to_bits());
                 shortened += usize::from(lib.is_some());
             }

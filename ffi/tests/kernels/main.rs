@@ -29,7 +29,7 @@ use fractum::contact::convex::{self, ContactGeometry};
 use fractum::contact::hertz_mindlin::{
     Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
 };
-use fractum::effects::contact::{
+use fractum::contact::pair::{
     BodyAt, ContactBody, PairMemory, PairOut, Placement, pair_contact, skips, travel_step,
     wall_contact,
 };
