@@ -8,7 +8,7 @@
 
 use std::path::Path;
 
-use fractum::effects::contact::{
+use fractum::contact::records::{
     records_highest_frequency, records_max_frequency, tangential_ratio,
 };
 use fractum::models::granular::Simulation;

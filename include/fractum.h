@@ -523,7 +523,7 @@ enum FractumStatus fractum_kernel_placement(const struct FractumBody *b,
 // How far body `after` may have moved since it was `before` (the same body one drift
 // later; m), added to `*travel`: the centroid's path plus the bounding radius times a bound
 // on the angle turned, as Fractum's contact effect sums each body's motion for the
-// separated pairs' skip (`fractum::effects::contact::travel_step`). `fractum_kernel_pair_row`
+// separated pairs' skip (`fractum::contact::pair::travel_step`). `fractum_kernel_pair_row`
 // reads the sums.
 enum FractumStatus fractum_kernel_travel(const struct FractumBody *before,
                                          const struct FractumBody *after,
@@ -796,6 +796,13 @@ enum FractumStatus fractum_kernel_spring(struct FractumSpring *s,
 // host that must prepare a split (LAMMPS: a reneighbouring) asks first. A sphere can.
 enum FractumStatus fractum_kernel_can_break(const struct FractumBody *b, int32_t *can);
 
+// The cohesive energy G_c = K_Ic² (1 − ν²) / E (J/m², Eq. 38) of a material of toughness
+// `toughness` (Pa m^0.5), Young's modulus `young` (Pa) and Poisson's ratio `poisson`.
+enum FractumStatus fractum_kernel_cohesive_energy(double toughness,
+                                                  double young,
+                                                  double poisson,
+                                                  double *gc);
+
 // Velocity Verlet's first half kick and drift of one grain over `dt` (s), as Fractum's
 // integrator moves each body (`velocity_verlet::kick_drift_body`, orientations tracked):
 // `b`'s velocity, position, angular velocity and orientation advance under `force` (3
@@ -806,7 +813,7 @@ enum FractumStatus fractum_kernel_kick_drift(struct FractumBody *b,
                                              double dt);
 
 // One contact's share of body `a`'s row in Fractum's frequency bound (rad²/s²), as its step
-// adaptation sums it (`effects::contact::frequency_share` of the `contact_load`s): the
+// adaptation sums it (`contact::records::frequency_share` of the `contact_load`s): the
 // contact `c` (its point, normal and stiffness) under `law` (friction adds the tangential
 // spring) loads `a` (its centre, orientation, mass and principal moments are read) and its
 // partner `b` (NULL for a wall). A body's row sums the shares of its contacts, walls
@@ -827,7 +834,7 @@ enum FractumStatus fractum_kernel_frequency_shares(const struct FractumContactLa
                                                    double *share_a,
                                                    double *share_b);
 
-// Fractum's step adaptation for fracture runs (`granular::adapted_step`): with `sum` the
+// Fractum's step adaptation for fracture runs (`integrate::adapted_step`): with `sum` the
 // largest row of the frequency bound (`fractum_kernel_frequency_share` summed over a body's
 // contacts) over all bodies, `*next` = the step to take after `dt` (s): `dt` shortened so
 // that `omega dt` is `target` when it is above that (omega = sqrt(sum)), else `dt` unchanged.
@@ -838,7 +845,7 @@ enum FractumStatus fractum_kernel_adapted_step(double sum, double dt, double tar
 // Fractum's check of a step against its contacts, as its granular run makes it: with `sum`
 // the largest row of the frequency bound over all bodies (as for
 // `fractum_kernel_adapted_step`), `*omega_dt` = omega dt and `*verdict` = 2 when the step is
-// unstable (`granular::step_verdict`: omega dt above 2, the run stops), 1 when contacts are
+// unstable (`integrate::step_verdict`: omega dt above 2, the run stops), 1 when contacts are
 // resolved by few steps (above 1.6: a warning), else 0.
 enum FractumStatus fractum_kernel_step_check(double sum,
                                              double dt,
@@ -851,13 +858,6 @@ enum FractumStatus fractum_kernel_kick(struct FractumBody *b,
                                        const double *force,
                                        const double *torque,
                                        double dt);
-
-// The cohesive energy G_c = K_Ic² (1 − ν²) / E (J/m², Eq. 38) of a material of toughness
-// `toughness` (Pa m^0.5), Young's modulus `young` (Pa) and Poisson's ratio `poisson`.
-enum FractumStatus fractum_kernel_cohesive_energy(double toughness,
-                                                  double young,
-                                                  double poisson,
-                                                  double *gc);
 
 #ifdef __cplusplus
 }  // extern "C"

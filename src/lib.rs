@@ -29,5 +29,7 @@ pub mod shape;
 pub mod state;
 
 pub use error::{Error, Result};
+// A run of any model from its scene, or from a saved state: what embedders (the C ABI) call.
+pub use models::{build, restore};
 pub use run::Run;
 pub use scene::Scene;

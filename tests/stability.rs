@@ -78,7 +78,7 @@ fn a_step_too_long_for_the_contacts_stops_the_run_with_a_clear_error() {
 /// is exact here (one contact), and the computed highest frequency finds the same.
 #[test]
 fn frequency_bound_is_exact_for_a_sphere_on_a_wall() {
-    use fractum::effects::contact::{
+    use fractum::contact::records::{
         ContactRecord, WALL, records_highest_frequency, records_max_frequency,
     };
     let r = 1e-4;
@@ -124,7 +124,7 @@ fn frequency_bound_is_exact_for_a_sphere_on_a_wall() {
 /// is never longer than the same rule on the true frequency.
 #[test]
 fn frequency_bound_is_never_below_the_computed_highest_frequency() {
-    use fractum::effects::contact::{
+    use fractum::contact::records::{
         ContactRecord, WALL, records_highest_frequency, records_max_frequency,
     };
     use fractum::shape::PolyEllipsoid;

@@ -10,7 +10,7 @@
 //! Handles are opaque numbers, never addresses: a freed or forged handle is recognised and
 //! rejected (`FRACTUM_ERR_HANDLE`) instead of being dereferenced.
 //!
-//! The kernel exports (`fractum_kernel_*`, in `kernels.rs`) need no handle: they are the
+//! The kernel exports (`fractum_kernel_*`, in `kernels/`) need no handle: they are the
 //! per-contact and per-grain functions of the granular model, for hosts that keep their own
 //! particles (a LAMMPS plugin), each the library function Fractum's own run calls.
 
@@ -26,38 +26,9 @@ use fractum::run::CallLimits;
 use fractum::{Error, Run, Scene};
 
 mod kernels;
+mod status;
 pub use kernels::*;
-
-/// Status codes returned by every function.
-#[repr(C)]
-#[allow(non_camel_case_types)]
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum FractumStatus {
-    /// Success.
-    FRACTUM_OK = 0,
-    /// A pointer argument was null.
-    FRACTUM_ERR_NULL = 1,
-    /// The handle is unknown: never created, or already freed.
-    FRACTUM_ERR_HANDLE = 2,
-    /// Bad input: a scene, a key, a value out of range, a file that cannot be read, an unknown
-    /// series column.
-    FRACTUM_ERR_INPUT = 3,
-    /// The simulation failed (instability, a state that cannot be restored, a time that a
-    /// fixed-step integrator cannot land on).
-    FRACTUM_ERR_RUN = 4,
-    /// A caller buffer is too small; the needed size is in the last-error message (and in
-    /// `*needed` for text).
-    FRACTUM_ERR_BUFFER = 5,
-    /// An internal error (a caught panic). The handle should be freed.
-    FRACTUM_ERR_INTERNAL = 6,
-    /// The call does not apply to this run's model (face calls on a model without driven
-    /// faces, radii of a model without grains); the message names the model. Nothing changed.
-    FRACTUM_ERR_MODEL = 7,
-    /// `fractum_advance` / `fractum_advance_to` stopped early, before a step, because a bound
-    /// of `fractum_set_call_limits` ran out or `fractum_cancel` was called; the message says
-    /// which and where. The run is consistent: call again to go on.
-    FRACTUM_INTERRUPTED = 8,
-}
+pub use status::FractumStatus;
 
 use FractumStatus::*;
 
@@ -69,11 +40,11 @@ struct Sim(Box<dyn Run>);
 
 impl Sim {
     fn build(scene: Scene, threads: usize) -> fractum::Result<Sim> {
-        Ok(Sim(fractum::models::build(scene, threads, &mut |_| {})?))
+        Ok(Sim(fractum::build(scene, threads, &mut |_| {})?))
     }
 
     fn restore(scene: Scene, bytes: &[u8], threads: usize) -> fractum::Result<Sim> {
-        Ok(Sim(fractum::models::restore(scene, bytes, threads)?))
+        Ok(Sim(fractum::restore(scene, bytes, threads)?))
     }
 
     fn run(&self) -> &dyn Run {

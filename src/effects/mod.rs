@@ -11,7 +11,8 @@ pub mod gravity;
 use crate::error::{Error, Result};
 use crate::state::{Bodies, Forces, Vec3, Walls};
 
-pub use contact::{ContactParams, ContactRecord, ContactRecords, WALL, build_contact};
+pub use crate::contact::records::{ContactRecord, ContactRecords, WALL};
+pub use contact::{ContactParams, build_contact};
 pub use gravity::Gravity;
 
 /// What an effect needs to know about the step being taken.

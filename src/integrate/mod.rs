@@ -1,11 +1,13 @@
 //! Time integration and the critical time step.
 
+mod stability;
 mod tchamwa_wielgosz;
 pub mod velocity_verlet;
 // beam2d: Gear's predictor-corrector and velocity Verlet on flat arrays of degrees of freedom.
 pub mod gear5;
 
 pub use gear5::Gear5;
+pub use stability::{StepVerdict, adapted_step, step_verdict};
 pub use tchamwa_wielgosz::TchamwaWielgosz;
 pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drift_dofs};
 

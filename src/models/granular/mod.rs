@@ -25,7 +25,9 @@ use serde_json::{Map, Value};
 use crate::effects::{ContactParams, Pipeline, StepContext};
 use crate::error::{Error, Result};
 use crate::fracture::{FractureParams, GrainFracture};
-use crate::integrate::{VelocityVerlet, rayleigh_time_step};
+use crate::integrate::{
+    StepVerdict, VelocityVerlet, adapted_step, rayleigh_time_step, step_verdict,
+};
 use crate::output::vtk;
 use crate::probe::energy::{EnergyAccount, Mechanical};
 use crate::probe::size_distribution;
@@ -147,30 +149,6 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
 /// `Model::use_team` below).
 const TEAM_MIN_SPHERES_PER_THREAD: usize = 1500;
 
-/// Above this estimated `ω dt` a run stops, above the second it warns.
-const OMEGA_DT_LIMIT: f64 = 2.0;
-const OMEGA_DT_WARN: f64 = 1.6;
-
-/// What an estimated `ω dt` says of a step: above [`OMEGA_DT_LIMIT`] velocity Verlet is
-/// unstable (the run stops), above [`OMEGA_DT_WARN`] contacts are resolved by few steps (a
-/// warning); Fractum's run and the LAMMPS plugin (`fractum_kernel_step_check`) judge alike.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StepVerdict {
-    Fine,
-    Coarse,
-    Unstable,
-}
-
-pub fn step_verdict(omega_dt: f64) -> StepVerdict {
-    if omega_dt > OMEGA_DT_LIMIT {
-        StepVerdict::Unstable
-    } else if omega_dt > OMEGA_DT_WARN {
-        StepVerdict::Coarse
-    } else {
-        StepVerdict::Fine
-    }
-}
-
 /// Steps between the stability checks and step adaptations of a granular run that adapts its
 /// step (fracture with `time.dt = "auto"`; also after every split and at the last step); other
 /// runs check after every step. A fixed cadence, so that what a run computes does not depend
@@ -186,14 +164,6 @@ pub const STABILITY_EVERY: u64 = 10;
 /// from the Rayleigh step also sets how close to the stiffest contact the step stays as pieces
 /// appear (docs/performance.md: the main job's ensembles at each safety).
 pub const ADAPT_PER_SAFETY: f64 = 3.0;
-
-/// The step a fracture run takes after `dt` (s) when the highest frequency of its contacts is
-/// estimated at `omega` (rad/s): shortened to give `ω dt` = `target` when it is above that,
-/// else `None` (keep `dt`).
-pub fn adapted_step(omega: f64, dt: f64, target: f64) -> Option<f64> {
-    let omega_dt = omega * dt;
-    (omega_dt > target).then(|| dt * (target / omega_dt))
-}
 
 /// The force pipeline of exactly the effects a granular scene names. `friction` overrides
 /// the material's coefficient (sample preparation compacts with its own).

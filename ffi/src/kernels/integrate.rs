@@ -1,0 +1,192 @@
+//! Integration kernels: velocity Verlet's kick and drift of one grain, the contacts'
+//! frequency shares, the adapted step and the step check.
+
+use super::*;
+
+/// Velocity Verlet's first half kick and drift of one grain over `dt` (s), as Fractum's
+/// integrator moves each body (`velocity_verlet::kick_drift_body`, orientations tracked):
+/// `b`'s velocity, position, angular velocity and orientation advance under `force` (3
+/// doubles, N) and `torque` (3 doubles, N m, world).
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_kick_drift(
+    b: *mut FractumBody,
+    force: *const f64,
+    torque: *const f64,
+    dt: f64,
+) -> FractumStatus {
+    kernel(|| {
+        let (force, torque) = (vec3_at(force)?, vec3_at(torque)?);
+        let b = get_mut(b)?;
+        let mut body = body_in(b)?;
+        fractum::integrate::velocity_verlet::kick_drift_body(
+            &mut body.pos,
+            &mut body.vel,
+            &mut body.omega,
+            &mut body.orientation,
+            &force,
+            &torque,
+            body.inv_mass,
+            &body.inv_inertia,
+            dt,
+            true,
+        );
+        b.pos = body.pos.into();
+        b.vel = body.vel.into();
+        b.omega = body.omega.into();
+        b.quat = quat_out(&body.orientation);
+        Ok(())
+    })
+}
+
+/// One contact's share of body `a`'s row in Fractum's frequency bound (rad²/s²), as its step
+/// adaptation sums it (`contact::records::frequency_share` of the `contact_load`s): the
+/// contact `c` (its point, normal and stiffness) under `law` (friction adds the tangential
+/// spring) loads `a` (its centre, orientation, mass and principal moments are read) and its
+/// partner `b` (NULL for a wall). A body's row sums the shares of its contacts, walls
+/// included; the bound is sqrt of the largest row: see `fractum_kernel_adapted_step`.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_frequency_share(
+    law: *const FractumContactLaw,
+    c: *const FractumContact,
+    a: *const FractumBody,
+    b: *const FractumBody,
+    share: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let (law, c, a) = (get(law)?, get(c)?, get(a)?);
+        let b = if b.is_null() { None } else { Some(get(b)?) };
+        let share = get_mut(share)?;
+        let own = body_load(law, c, a)?;
+        let other = b.map(|b| body_load(law, c, b)).transpose()?;
+        *share = fractum::contact::records::frequency_share(own, other);
+        Ok(())
+    })
+}
+
+/// `fractum_kernel_frequency_share` for both bodies of a pair contact `c` at once, each
+/// body's load computed once (as Fractum's own estimate does per contact): `share_a` the
+/// contact's share of `a`'s row, `share_b` of `b`'s; the same bits as two calls.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_frequency_shares(
+    law: *const FractumContactLaw,
+    c: *const FractumContact,
+    a: *const FractumBody,
+    b: *const FractumBody,
+    share_a: *mut f64,
+    share_b: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let (law, c, a, b) = (get(law)?, get(c)?, get(a)?, get(b)?);
+        let (share_a, share_b) = (get_mut(share_a)?, get_mut(share_b)?);
+        let (la, lb) = (body_load(law, c, a)?, body_load(law, c, b)?);
+        *share_a = fractum::contact::records::frequency_share(la, Some(lb));
+        *share_b = fractum::contact::records::frequency_share(lb, Some(la));
+        Ok(())
+    })
+}
+
+/// Contact `c`'s load on `body` (`fractum::contact::records::contact_load`), its mass and
+/// moments checked positive.
+fn body_load(
+    law: &FractumContactLaw,
+    c: &FractumContact,
+    body: &FractumBody,
+) -> Result<f64, FractumStatus> {
+    let tangential = if law.friction != 0 {
+        fractum::contact::records::tangential_ratio(law.eight_g, law.two_e)
+    } else {
+        0.0
+    };
+    let inertia = Vec3::from(body.inertia);
+    // NaN fails every comparison: refused with the non-positive values.
+    let positive = |v: f64| v > 0.0;
+    input_if(!positive(body.mass) || !inertia.iter().all(|&m| positive(m)))?;
+    Ok(fractum::contact::records::contact_load(
+        &Vec3::from(c.point),
+        &Vec3::from(c.normal),
+        c.stiffness,
+        &Vec3::from(body.pos),
+        &quat(&body.quat),
+        1.0 / body.mass,
+        &inertia.map(|m| 1.0 / m),
+        tangential,
+    ))
+}
+
+/// Fractum's step adaptation for fracture runs (`integrate::adapted_step`): with `sum` the
+/// largest row of the frequency bound (`fractum_kernel_frequency_share` summed over a body's
+/// contacts) over all bodies, `*next` = the step to take after `dt` (s): `dt` shortened so
+/// that `omega dt` is `target` when it is above that (omega = sqrt(sum)), else `dt` unchanged.
+/// Fractum's target is 3 x `time.safety` (`granular::ADAPT_PER_SAFETY`: 0.6 at the default
+/// 0.2); it checks every output step and after every split.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_adapted_step(
+    sum: f64,
+    dt: f64,
+    target: f64,
+    next: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let valid = sum >= 0.0 && dt > 0.0 && target > 0.0; // false for NaN too
+        input_if(!valid)?;
+        let omega = fractum::contact::records::frequency_bound(sum);
+        *get_mut(next)? = fractum::integrate::adapted_step(omega, dt, target).unwrap_or(dt);
+        Ok(())
+    })
+}
+
+/// Fractum's check of a step against its contacts, as its granular run makes it: with `sum`
+/// the largest row of the frequency bound over all bodies (as for
+/// `fractum_kernel_adapted_step`), `*omega_dt` = omega dt and `*verdict` = 2 when the step is
+/// unstable (`integrate::step_verdict`: omega dt above 2, the run stops), 1 when contacts are
+/// resolved by few steps (above 1.6: a warning), else 0.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_step_check(
+    sum: f64,
+    dt: f64,
+    omega_dt: *mut f64,
+    verdict: *mut i32,
+) -> FractumStatus {
+    kernel(|| {
+        input_if(!(sum >= 0.0 && dt > 0.0 && dt.is_finite()))?;
+        let (omega_dt, verdict) = (get_mut(omega_dt)?, get_mut(verdict)?);
+        *omega_dt = fractum::contact::records::frequency_bound(sum) * dt;
+        use fractum::integrate::{StepVerdict, step_verdict};
+        *verdict = match step_verdict(*omega_dt) {
+            StepVerdict::Fine => 0,
+            StepVerdict::Coarse => 1,
+            StepVerdict::Unstable => 2,
+        };
+        Ok(())
+    })
+}
+
+/// Velocity Verlet's second half kick of one grain (`velocity_verlet::kick_body`): `b`'s
+/// velocity and angular velocity advance over `dt`/2 under `force` and `torque`.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_kick(
+    b: *mut FractumBody,
+    force: *const f64,
+    torque: *const f64,
+    dt: f64,
+) -> FractumStatus {
+    kernel(|| {
+        let (force, torque) = (vec3_at(force)?, vec3_at(torque)?);
+        let b = get_mut(b)?;
+        let mut body = body_in(b)?;
+        fractum::integrate::velocity_verlet::kick_body(
+            &mut body.vel,
+            &mut body.omega,
+            &body.orientation,
+            &force,
+            &torque,
+            body.inv_mass,
+            &body.inv_inertia,
+            dt,
+            true,
+        );
+        b.vel = body.vel.into();
+        b.omega = body.omega.into();
+        Ok(())
+    })
+}

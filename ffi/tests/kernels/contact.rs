@@ -1,0 +1,467 @@
+//! The contact exports against the library: the law, the force, the narrow phase, pairs,
+//! rows, travel, walls and the poly-ellipsoid grains, bit for bit.
+
+use super::*;
+
+#[test]
+fn contact_law_folds_the_library_constants() {
+    for (damp, fric) in [(false, false), (true, false), (false, true), (true, true)] {
+        let (law, k) = laws(damp, fric, 0.35);
+        assert_eq!(
+            bits(&[
+                law.four_thirds_e,
+                law.two_e,
+                law.damping,
+                law.eight_g,
+                law.mu
+            ]),
+            bits(&[k.four_thirds_e, k.two_e, k.damping, k.eight_g, k.mu])
+        );
+        assert_eq!((law.damp, law.friction), (damp as i32, fric as i32));
+    }
+    let mut law = FractumContactLaw::default();
+    let s = fractum_kernel_contact_law(YOUNG, POISSON, 0.0, 0.3, 1, 0, &mut law);
+    assert_eq!(s, FRACTUM_ERR_INPUT);
+    let s = fractum_kernel_contact_law(YOUNG, POISSON, 0.5, 0.3, 0, 0, null_mut());
+    assert_eq!(s, FRACTUM_ERR_NULL);
+}
+
+#[test]
+fn hertz_mindlin_gives_the_library_bits() {
+    let mut d = Draw::new(1);
+    for (damp, fric) in [(false, false), (true, false), (false, true), (true, true)] {
+        let (law, k) = laws(damp, fric, 0.3);
+        for _ in 0..50 {
+            let n = d.unit();
+            let (delta, r_eff, m_eff) = (
+                d.range(1e-9, 1e-5),
+                d.range(1e-4, 1e-3),
+                d.range(1e-6, 1e-5),
+            );
+            let v = d.vec(2.0);
+            let h0 = d.vec(1e-6);
+            let (dt, update) = (d.range(1e-9, 1e-7), d.flag());
+            let mut h = h0;
+            let c = match (damp, fric) {
+                (false, false) => hertz_mindlin::<false, false>(
+                    &k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update,
+                ),
+                (true, false) => hertz_mindlin::<true, false>(
+                    &k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update,
+                ),
+                (false, true) => hertz_mindlin::<false, true>(
+                    &k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update,
+                ),
+                (true, true) => {
+                    hertz_mindlin::<true, true>(&k, &n, delta, r_eff, m_eff, &v, &mut h, dt, update)
+                }
+            };
+            let mut hist: [f64; 3] = h0.into();
+            let mut out = FractumContact::default();
+            let s = fractum_kernel_hertz_mindlin(
+                &law,
+                n.as_ptr(),
+                delta,
+                r_eff,
+                m_eff,
+                v.as_ptr(),
+                hist.as_mut_ptr(),
+                dt,
+                i32::from(update),
+                &mut out,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(bits(&hist), vb(&h));
+            assert_eq!(bits(&out.force), vb(&c.force));
+            assert_eq!(
+                bits(&[
+                    out.normal_force,
+                    out.hertz_force,
+                    out.radius,
+                    out.stiffness,
+                    out.energy,
+                    out.dissipated
+                ]),
+                bits(&[
+                    c.normal_force,
+                    c.hertz_force,
+                    c.radius,
+                    c.stiffness,
+                    c.elastic_energy,
+                    c.dissipated
+                ])
+            );
+            assert_eq!(out.touching, 1);
+        }
+    }
+}
+
+/// Pairs of spheres and poly-ellipsoids at separations scaled from touching bounding
+/// spheres, each evaluated over a few steps as it moves (warm start, held radius,
+/// tangential history), in every variant: the export's contact and memory are the
+/// library's, bit for bit.
+#[test]
+fn pair_gives_the_library_bits() {
+    let mut d = Draw::new(2);
+    let mut touching = [0usize; 2];
+    for &(damp, fric, poly) in &SWITCHES {
+        let (law, k) = laws(damp, fric, 0.4);
+        for case in 0..40 {
+            let (sa, sb) = match case % 4 {
+                0 => (true, true),
+                1 => (true, false),
+                2 => (false, true),
+                _ => (false, false),
+            };
+            let mut a = random_body(&mut d, sa);
+            let mut b = random_body(&mut d, sb);
+            let u = d.unit();
+            b.pos = a.pos - u * (d.range(0.4, 1.02) * (a.radius + b.radius));
+            let dt = 2e-8;
+            let (mut hist, mut memory) = (Vec3::zeros(), PairMemory::default());
+            let mut mem = FractumPairMemory::default();
+            for step in 0..4 {
+                let update = step > 0;
+                let (bodies, placements) = run_pair(&a, &b);
+                let at = |i| BodyAt {
+                    bodies: &bodies,
+                    placements: &placements,
+                    i,
+                };
+                let p = variants!(
+                    damp,
+                    fric,
+                    poly,
+                    pair_contact(&k, &at(0), &at(1), &mut hist, &mut memory, dt, update)
+                );
+                let mut out = FractumContact::default();
+                let placed_before = mem;
+                let s = fractum_kernel_pair(
+                    &law,
+                    &fb(&a),
+                    &fb(&b),
+                    &mut mem,
+                    dt,
+                    i32::from(update),
+                    i32::from(poly),
+                    &mut out,
+                );
+                assert_eq!(s, FRACTUM_OK);
+                same_contact(&out, &p);
+                // Placed once per body, as a caller with many pairs does: the same bits,
+                // and the placement is the run's.
+                let (mut pa, mut pb) = (FractumPlacement::default(), FractumPlacement::default());
+                assert_eq!(fractum_kernel_placement(&fb(&a), &mut pa), FRACTUM_OK);
+                assert_eq!(fractum_kernel_placement(&fb(&b), &mut pb), FRACTUM_OK);
+                for (given, run) in [(&pa, &placements.first()), (&pb, &placements.get(1))] {
+                    if let Some(run) = run {
+                        assert_eq!(bits(&given.origin), vb(&run.origin));
+                        assert_eq!(bits(&given.rot), bits(&matrix_out(&run.rot)));
+                    }
+                }
+                let mut placed = FractumContact::default();
+                let mut placed_mem = placed_before;
+                let s = fractum_kernel_pair_placed(
+                    &law,
+                    &fb(&a),
+                    &pa,
+                    &fb(&b),
+                    &pb,
+                    &mut placed_mem,
+                    dt,
+                    i32::from(update),
+                    i32::from(poly),
+                    &mut placed,
+                );
+                assert_eq!(s, FRACTUM_OK);
+                same_contact(&placed, &p);
+                for m in [&mem, &placed_mem] {
+                    assert_eq!(bits(&m.hist), vb(&hist));
+                    assert_eq!(bits(&m.normal), vb(&memory.normal));
+                    assert_eq!(m.radius.to_bits(), memory.radius.to_bits());
+                }
+                touching[usize::from(sa && sb)] += usize::from(p.is_some());
+                a.pos += a.vel * 1e-5;
+                b.pos += b.vel * 1e-5;
+                a.orientation = UnitQuaternion::from_scaled_axis(a.omega * 1e-5) * a.orientation;
+            }
+        }
+    }
+    assert!(touching[0] > 200 && touching[1] > 100, "{touching:?}");
+}
+
+/// A cluster of spheres and poly-ellipsoids moving and turning over many steps, each row
+/// of its half neighbour list given to the row kernel at once (partners with a flag bit
+/// the mask removes, tags that put the lower one as A in either row): the contacts and
+/// memories are `fractum_kernel_pair_placed`'s bit for bit, with the separated pairs'
+/// skip on (travel summed by `fractum_kernel_travel`) and off, and the skip skips.
+#[test]
+fn pair_row_gives_the_pair_kernels_bits_with_and_without_the_skip() {
+    let mut d = Draw::new(21);
+    let (mut skipped, mut touching, mut searched_apart) = (0usize, 0usize, 0usize);
+    for &(damp, fric, poly) in &SWITCHES {
+        let (law, _) = laws(damp, fric, 0.4);
+        let n = 14;
+        let mut bodies: Vec<Body> = (0..n).map(|k| random_body(&mut d, k % 3 == 0)).collect();
+        for b in &mut bodies {
+            b.pos *= 1.6;
+        }
+        // Tags out of index order.
+        let keys: Vec<i64> = (0..n as i64).map(|k| (7 * k + 3) % n as i64).collect();
+        let pairs: Vec<(usize, usize)> = (0..n)
+            .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+            .collect();
+        let mut reference = vec![FractumPairMemory::default(); pairs.len()];
+        let mut with_skip = vec![0.0; 8 * pairs.len()];
+        let mut without = vec![0.0; 7 * pairs.len()];
+        let mut travel = vec![0.0; n];
+        let h = 2e-5;
+        let dt = 2e-8;
+        for step in 0..40 {
+            let update = i32::from(step > 0);
+            let fbs: Vec<FractumBody> = bodies.iter().map(fb).collect();
+            let places: Vec<FractumPlacement> = fbs
+                .iter()
+                .map(|b| {
+                    let mut p = FractumPlacement::default();
+                    assert_eq!(fractum_kernel_placement(b, &mut p), FRACTUM_OK);
+                    p
+                })
+                .collect();
+            let mut expected = Vec::new();
+            for (slot, &(i, j)) in pairs.iter().enumerate() {
+                let (a, b) = if keys[i] > keys[j] { (j, i) } else { (i, j) };
+                let mut c = FractumContact::default();
+                let s = fractum_kernel_pair_placed(
+                    &law,
+                    &fbs[a],
+                    &places[a],
+                    &fbs[b],
+                    &places[b],
+                    &mut reference[slot],
+                    dt,
+                    update,
+                    i32::from(poly),
+                    &mut c,
+                );
+                assert_eq!(s, FRACTUM_OK);
+                expected.push(c);
+                if poly && skips(with_skip[8 * slot + 7], travel[a], travel[b]) {
+                    skipped += 1;
+                    assert_eq!(c.touching, 0, "a skipped pair touches");
+                } else if c.touching == 0 && fbs[a].sphere * fbs[b].sphere == 0 {
+                    searched_apart += 1;
+                }
+            }
+            let mut first = 0;
+            for i in 0..n {
+                let row: Vec<usize> = (i + 1..n).collect();
+                let partners: Vec<i32> = row
+                    .iter()
+                    .map(|&j| j as i32 | ((j as i32 & 1) << 29))
+                    .collect();
+                let m = row.len();
+                for (memory, stride, t) in [
+                    (&mut with_skip, 8usize, travel.as_ptr()),
+                    (&mut without, 7, null()),
+                ] {
+                    let mut out = vec![FractumContact::default(); m];
+                    let mut at = vec![-1; m];
+                    let mut kept = vec![-1; m];
+                    let mut count = -1;
+                    let s = fractum_kernel_pair_row(
+                        &law,
+                        fbs.as_ptr(),
+                        if poly { places.as_ptr() } else { null() },
+                        keys.as_ptr(),
+                        t,
+                        n as i32,
+                        i as i32,
+                        partners.as_ptr(),
+                        m as i32,
+                        (1 << 29) - 1,
+                        memory[first * stride..].as_mut_ptr(),
+                        stride as i32,
+                        dt,
+                        update,
+                        i32::from(poly),
+                        kept.as_mut_ptr(),
+                        out.as_mut_ptr(),
+                        at.as_mut_ptr(),
+                        &mut count,
+                    );
+                    assert_eq!(s, FRACTUM_OK);
+                    let touching_here: Vec<usize> = (0..m)
+                        .filter(|&k| expected[first + k].touching != 0)
+                        .collect();
+                    assert_eq!(count as usize, touching_here.len());
+                    for (c, &k) in out.iter().zip(&at).take(count as usize) {
+                        assert_eq!(*c, expected[first + k as usize]);
+                        assert_eq!(bits(&c.force), bits(&expected[first + k as usize].force));
+                    }
+                    for k in 0..m {
+                        let record = &memory[(first + k) * stride..(first + k + 1) * stride];
+                        let r = &reference[first + k];
+                        assert_eq!(bits(&record[..3]), bits(&r.hist));
+                        assert_eq!(bits(&record[3..6]), bits(&r.normal));
+                        assert_eq!(record[6].to_bits(), r.radius.to_bits());
+                        assert_eq!(kept[k], i32::from(record.iter().any(|v| *v != 0.0)));
+                    }
+                }
+                touching += expected[first..first + m]
+                    .iter()
+                    .filter(|c| c.touching != 0)
+                    .count();
+                first += m;
+            }
+            for (b, t) in bodies.iter_mut().zip(&mut travel) {
+                let before = fb(b);
+                b.pos += b.vel * h;
+                b.orientation = UnitQuaternion::from_scaled_axis(b.omega * h) * b.orientation;
+                assert_eq!(fractum_kernel_travel(&before, &fb(b), t), FRACTUM_OK);
+            }
+        }
+    }
+    assert!(
+        skipped > 500 && touching > 500 && searched_apart > 100,
+        "skipped {skipped}, touching {touching}, searched apart {searched_apart}"
+    );
+}
+
+/// The travel kernel adds the library's step: a turn and a shift, summed.
+#[test]
+fn travel_adds_the_library_step() {
+    let mut d = Draw::new(4);
+    for sphere in [true, false] {
+        let a = random_body(&mut d, sphere);
+        let mut b = a;
+        b.pos += d.vec(1e-5);
+        b.orientation = UnitQuaternion::from_scaled_axis(d.vec(0.01)) * a.orientation;
+        let mut t = 0.25e-3;
+        assert_eq!(fractum_kernel_travel(&fb(&a), &fb(&b), &mut t), FRACTUM_OK);
+        let step = travel_step(&a.pos, &a.orientation, &b.pos, &b.orientation, b.radius);
+        assert_eq!(t.to_bits(), (0.25e-3 + step).to_bits());
+        let angle = a.orientation.angle_to(&b.orientation);
+        assert!(step >= (b.pos - a.pos).norm() + b.radius * angle);
+    }
+    assert_eq!(
+        fractum_kernel_travel(null(), null(), null_mut()),
+        FRACTUM_ERR_NULL
+    );
+}
+
+/// The same pairs' geometry alone.
+#[test]
+fn convex_and_wall_geometry_give_the_library_bits() {
+    let mut d = Draw::new(3);
+    let mut touching = 0;
+    for case in 0..200 {
+        let a = random_body(&mut d, case % 3 == 0);
+        let mut b = random_body(&mut d, case % 5 == 0);
+        let u = d.unit();
+        b.pos = a.pos - u * (d.range(0.4, 1.02) * (a.radius + b.radius));
+        let guess = if d.flag() { d.vec(1.0) } else { Vec3::zeros() };
+        let (bodies, placements) = run_pair(&a, &b);
+        let at = |i| BodyAt {
+            bodies: &bodies,
+            placements: &placements,
+            i,
+        };
+        let g = convex::contact(&at(0).placed(), &at(1).placed(), &guess);
+        touching += usize::from(g.is_some());
+        let mut out = FractumGeometry::default();
+        let s = fractum_kernel_convex_contact(&fb(&a), &fb(&b), guess.as_ptr(), &mut out);
+        assert_eq!(s, FRACTUM_OK);
+        same_geometry(&out, &g);
+        let wp = a.pos - u * (d.range(0.3, 1.05) * a.radius);
+        let g = convex::wall_contact(&at(0).placed(), &u, &wp);
+        let s = fractum_kernel_wall_geometry(&fb(&a), u.as_ptr(), wp.as_ptr(), &mut out);
+        assert_eq!(s, FRACTUM_OK);
+        same_geometry(&out, &g);
+    }
+    assert!(touching > 80, "{touching}");
+}
+
+#[test]
+fn wall_gives_the_library_bits() {
+    let mut d = Draw::new(4);
+    let mut touching = 0;
+    for &(damp, fric, poly) in &SWITCHES {
+        let (law, k) = laws(damp, fric, 0.25);
+        for case in 0..40 {
+            let mut a = random_body(&mut d, case % 2 == 0);
+            let n = d.unit();
+            let wp = a.pos - n * (d.range(0.3, 1.05) * a.radius);
+            let wv = d.vec(0.5);
+            let dt = 3e-8;
+            let (mut hist, mut held) = (Vec3::zeros(), 0.0);
+            let mut mem = FractumPairMemory::default();
+            for step in 0..3 {
+                let update = step > 0;
+                let (bodies, placements) = run_pair(&a, &a);
+                let at = BodyAt {
+                    bodies: &bodies,
+                    placements: &placements,
+                    i: 0,
+                };
+                let p = variants!(
+                    damp,
+                    fric,
+                    poly,
+                    wall_contact(&k, &at, &n, &wp, &wv, &mut hist, &mut held, dt, update)
+                );
+                let mut out = FractumContact::default();
+                let s = fractum_kernel_wall(
+                    &law,
+                    &fb(&a),
+                    n.as_ptr(),
+                    wp.as_ptr(),
+                    wv.as_ptr(),
+                    &mut mem,
+                    dt,
+                    i32::from(update),
+                    i32::from(poly),
+                    &mut out,
+                );
+                assert_eq!(s, FRACTUM_OK);
+                same_contact(&out, &p);
+                assert_eq!(bits(&mem.hist), vb(&hist));
+                assert_eq!(mem.radius.to_bits(), held.to_bits());
+                touching += usize::from(p.is_some());
+                a.pos += a.vel * 1e-5;
+            }
+        }
+    }
+    assert!(touching > 300, "{touching}");
+}
+
+#[test]
+fn poly_ellipsoid_body_is_what_the_run_adds() {
+    let mut d = Draw::new(5);
+    for _ in 0..20 {
+        let semi: [f64; 6] = std::array::from_fn(|_| d.range(0.2e-3, 1e-3));
+        let (mass, c, q) = (d.range(1e-6, 1e-5), d.vec(1e-2), d.quat());
+        let mut bodies = Bodies::default();
+        bodies.push_poly_ellipsoid(PolyEllipsoid::new(semi).unwrap(), mass, c, q);
+        let qa: [f64; 4] = [q.w, q.i, q.j, q.k];
+        let mut out = FractumBody::default();
+        let s = fractum_kernel_poly_ellipsoid_body(
+            semi.as_ptr(),
+            mass,
+            c.as_ptr(),
+            qa.as_ptr(),
+            &mut out,
+        );
+        assert_eq!(s, FRACTUM_OK);
+        assert_eq!(body_bits(&out), body_bits(&fb(&bodies.body(0))));
+        let mut v = 0.0;
+        assert_eq!(fractum_kernel_body_volume(&out, &mut v), FRACTUM_OK);
+        assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
+    }
+    let mut bodies = Bodies::default();
+    bodies.push_sphere(Vec3::zeros(), 0.7e-3, 2500.0, d.quat());
+    let mut v = 0.0;
+    let s = fractum_kernel_body_volume(&fb(&bodies.body(0)), &mut v);
+    assert_eq!(s, FRACTUM_OK);
+    assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
+}

@@ -1,0 +1,348 @@
+//! Every kernel export, called through the C ABI of libfractum.so (abi.rs), against the
+//! library function it wraps called directly on the run's own data (Bodies, placements): the
+//! same bits. contact.rs, fracture.rs and integrate.rs by library area; refusals.rs what the
+//! kernels refuse.
+
+#[path = "../common/mod.rs"]
+mod common;
+// The library's own definitions of the status and the structs, and every export's signature:
+// not every test names each.
+#[allow(dead_code)]
+#[path = "../../src/status.rs"]
+mod status;
+#[allow(dead_code)]
+#[path = "../../src/kernels/types.rs"]
+mod types;
+#[macro_use]
+#[path = "../../src/kernels/variants.rs"]
+mod variants;
+
+#[allow(dead_code)]
+mod abi;
+mod contact;
+mod fracture;
+mod integrate;
+mod refusals;
+
+use abi::*;
+use fractum::contact::convex::{self, ContactGeometry};
+use fractum::contact::hertz_mindlin::{
+    Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
+};
+use fractum::contact::pair::{
+    BodyAt, ContactBody, PairMemory, PairOut, Placement, pair_contact, skips, travel_step,
+    wall_contact,
+};
+use fractum::fracture::break_plane::{self, Trigger};
+use fractum::fracture::cohesion::{self, Demand, Spring};
+use fractum::fracture::{
+    Criterion, FractureParams, MadeSpring, PendingSplit, bond_split, criteria,
+    grain_average_stress, grain_fails, split_grain,
+};
+use fractum::sample::{UNIFORM_COUNTERS, uniforms};
+use fractum::shape::{PolyEllipsoid, Shape};
+use fractum::state::{Bodies, Body, Vec3};
+use nalgebra::{Matrix3, UnitQuaternion};
+use status::FractumStatus::*;
+use std::ptr::{null, null_mut};
+use types::*;
+
+/// Seeded variates from the library's keyed stream.
+struct Draw {
+    seed: u64,
+    counter: u64,
+}
+
+impl Draw {
+    fn new(seed: u64) -> Self {
+        Draw { seed, counter: 0 }
+    }
+    fn u(&mut self) -> f64 {
+        let mut x = [0.0];
+        uniforms(self.seed, 1, self.counter, &mut x);
+        self.counter += 1;
+        x[0]
+    }
+    fn range(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * self.u()
+    }
+    fn vec(&mut self, s: f64) -> Vec3 {
+        Vec3::new(self.range(-s, s), self.range(-s, s), self.range(-s, s))
+    }
+    fn unit(&mut self) -> Vec3 {
+        loop {
+            let v = self.vec(1.0);
+            let n = v.norm();
+            if n > 0.1 && n <= 1.0 {
+                return v / n;
+            }
+        }
+    }
+    fn quat(&mut self) -> UnitQuaternion<f64> {
+        UnitQuaternion::from_scaled_axis(self.vec(3.0))
+    }
+    fn flag(&mut self) -> bool {
+        self.u() < 0.5
+    }
+}
+
+/// A random grain in motion: a sphere, or a poly-ellipsoid of six different semi-axes
+/// (so its principal frame is not its shape frame).
+fn random_body(d: &mut Draw, sphere: bool) -> Body {
+    let at = d.vec(1e-3);
+    let mut b = if sphere {
+        let mut bodies = Bodies::default();
+        bodies.push_sphere(at, d.range(0.5e-3, 1e-3), 2650.0, d.quat());
+        bodies.body(0)
+    } else {
+        let semi = std::array::from_fn(|_| d.range(0.35e-3, 1e-3));
+        let pe = PolyEllipsoid::new(semi).unwrap();
+        Body::poly_ellipsoid(pe, 2650.0 * pe.volume(), at, d.quat())
+    };
+    b.vel = d.vec(2.0);
+    b.omega = d.vec(2000.0);
+    b
+}
+
+/// The C form of a library body, field by field.
+fn fb(b: &Body) -> FractumBody {
+    let q = |q: &UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
+    let mut out = FractumBody {
+        pos: [b.pos.x, b.pos.y, b.pos.z],
+        vel: [b.vel.x, b.vel.y, b.vel.z],
+        omega: [b.omega.x, b.omega.y, b.omega.z],
+        quat: q(&b.orientation),
+        mass: b.mass,
+        radius: b.radius,
+        semi: [b.radius; 6],
+        origin: [0.0; 3],
+        to_body: [1.0, 0.0, 0.0, 0.0],
+        inertia: [b.inertia.x, b.inertia.y, b.inertia.z],
+        sphere: 1,
+    };
+    if let Shape::PolyEllipsoid {
+        pe,
+        origin,
+        to_body,
+    } = &b.shape
+    {
+        out.semi = pe.semi;
+        out.origin = [origin.x, origin.y, origin.z];
+        out.to_body = q(to_body);
+        out.sphere = 0;
+    }
+    out
+}
+
+fn bits(x: &[f64]) -> Vec<u64> {
+    x.iter().map(|v| v.to_bits()).collect()
+}
+
+fn vb(v: &Vec3) -> Vec<u64> {
+    bits(v.as_slice())
+}
+
+fn body_bits(b: &FractumBody) -> Vec<u64> {
+    let mut v = Vec::new();
+    for x in [&b.pos[..], &b.vel, &b.omega, &b.quat, &[b.mass, b.radius]] {
+        v.extend(bits(x));
+    }
+    for x in [&b.semi[..], &b.origin, &b.to_body, &b.inertia] {
+        v.extend(bits(x));
+    }
+    v.push(b.sphere as u64);
+    v
+}
+
+fn spring_bits(s: &FractumSpring) -> Vec<u64> {
+    let mut v = Vec::new();
+    for x in [&s.on_a[..], &s.on_b, &s.direction, &[s.f0, s.k, s.opening]] {
+        v.extend(bits(x));
+    }
+    v.extend(bits(&s.last_gap));
+    v.extend(bits(&s.last_force));
+    v.push(s.broken as u64);
+    v
+}
+
+fn same_contact(out: &FractumContact, p: &Option<PairOut>) {
+    match p {
+        None => assert_eq!(*out, FractumContact::default()),
+        Some(p) => {
+            assert_eq!(out.touching, 1);
+            assert_eq!(bits(&out.force), vb(&p.force));
+            assert_eq!(bits(&out.torque_a), vb(&p.torque_i));
+            assert_eq!(bits(&out.torque_b), vb(&p.torque_j));
+            assert_eq!(bits(&out.point), vb(&p.point));
+            assert_eq!(bits(&out.normal), vb(&p.normal));
+            let c = &p.c;
+            assert_eq!(
+                bits(&[
+                    out.normal_force,
+                    out.hertz_force,
+                    out.radius,
+                    out.stiffness,
+                    out.energy,
+                    out.dissipated
+                ]),
+                bits(&[
+                    c.normal_force,
+                    c.hertz_force,
+                    c.radius,
+                    c.stiffness,
+                    c.energy,
+                    c.dissipated
+                ])
+            );
+        }
+    }
+}
+
+fn same_geometry(out: &FractumGeometry, g: &Option<ContactGeometry>) {
+    match g {
+        None => assert_eq!(*out, FractumGeometry::default()),
+        Some(g) => {
+            assert_eq!(out.touching, 1);
+            assert_eq!(bits(&out.normal), vb(&g.normal));
+            assert_eq!(bits(&out.point), vb(&g.point));
+            assert_eq!(bits(&out.point_a), vb(&g.point_a));
+            assert_eq!(bits(&out.point_b), vb(&g.point_b));
+            assert_eq!(bits(&[out.depth, out.r_eff]), bits(&[g.depth, g.r_eff]));
+        }
+    }
+}
+
+const YOUNG: f64 = 60e9;
+const POISSON: f64 = 0.17;
+
+/// The export's law and the library's constants for the switches.
+fn laws(damp: bool, fric: bool, mu: f64) -> (FractumContactLaw, KernelConsts) {
+    let mut law = FractumContactLaw::default();
+    let s = fractum_kernel_contact_law(
+        YOUNG,
+        POISSON,
+        0.6,
+        mu,
+        i32::from(damp),
+        i32::from(fric),
+        &mut law,
+    );
+    assert_eq!(s, FRACTUM_OK);
+    let k = KernelConsts::new(
+        &Hertz::new(YOUNG, POISSON),
+        damp.then(|| ViscousDamping::from_restitution(0.6)).as_ref(),
+        fric.then(|| Mindlin::new(YOUNG, POISSON, mu)).as_ref(),
+    );
+    (law, k)
+}
+
+const SWITCHES: [(bool, bool, bool); 8] = [
+    (false, false, false),
+    (true, false, false),
+    (false, true, false),
+    (true, true, false),
+    (false, false, true),
+    (true, false, true),
+    (false, true, true),
+    (true, true, true),
+];
+
+/// The run's view of two bodies: in a Bodies, placed once per evaluation.
+fn run_pair(a: &Body, b: &Body) -> (Bodies, Vec<Placement>) {
+    let mut bodies = Bodies::default();
+    bodies.push(*a);
+    bodies.push(*b);
+    let placements = (0..2)
+        .map(|i| Placement::of(&bodies.pos[i], &bodies.orientation[i], &bodies.shape[i]))
+        .collect();
+    (bodies, placements)
+}
+
+fn fracture_law(springs: i32, ideal: bool, jitter: bool) -> FractumFractureLaw {
+    FractumFractureLaw {
+        mi: 20.56,
+        sigma_c: 592e6,
+        sigma_f: 2.0e9,
+        poisson: POISSON,
+        critical_contacts: 3,
+        ideal_plane: i32::from(ideal),
+        plane_jitter: i32::from(jitter),
+        springs,
+        gc: 50.7,
+        weibull_sigma_c: 0,
+    }
+}
+
+fn params_of(l: &FractumFractureLaw) -> FractureParams {
+    FractureParams {
+        mi: l.mi,
+        sigma_c: l.sigma_c,
+        sigma_f: l.sigma_f,
+        weibull: None,
+        weibull_sigma_c: l.weibull_sigma_c != 0,
+        critical_contacts: l.critical_contacts as usize,
+        cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
+        ideal_plane: l.ideal_plane != 0,
+        plane_jitter: l.plane_jitter != 0,
+        poisson: l.poisson,
+    }
+}
+
+fn same_trigger(out: &FractumTrigger, t: &Option<(Trigger, Criterion, f64)>) {
+    match t {
+        None => assert_eq!(*out, FractumTrigger::default()),
+        Some((Trigger::HoekBrown { stress }, c, v)) => {
+            assert_eq!((out.kind, *c), (1, Criterion::HoekBrown));
+            let rows: Vec<f64> = (0..9).map(|k| stress[(k / 3, k % 3)]).collect();
+            assert_eq!(bits(&out.stress), bits(&rows));
+            assert_eq!(out.value.to_bits(), v.to_bits());
+        }
+        Some((Trigger::Contacts { normal }, c, v)) => {
+            assert_eq!((out.kind, *c), (2, Criterion::Contacts));
+            assert_eq!(bits(&out.normal), vb(normal));
+            assert_eq!(out.value.to_bits(), v.to_bits());
+        }
+    }
+}
+
+/// A moment that squeezes grain `b` along `axis` with forces `f` (N) at its surface.
+fn squeeze(b: &Body, axis: Vec3, f: f64) -> Matrix3<f64> {
+    let x = axis * b.radius;
+    (-axis * f) * x.transpose() + (axis * f) * (-x).transpose()
+}
+
+fn same_pending(out: &FractumPending, p: &PendingSplit) {
+    for (x, y) in [
+        (&out.centroid, &p.centroid),
+        (&out.accel, &p.accel),
+        (&out.alpha, &p.alpha),
+        (&out.omega, &p.omega),
+    ] {
+        assert_eq!(bits(x), vb(y));
+    }
+    for k in 0..16 {
+        assert_eq!(bits(&out.points[k]), vb(&p.points[k]));
+    }
+    assert_eq!(out.count as usize, p.count);
+    assert_eq!(out.area.to_bits(), p.area.to_bits());
+}
+
+/// A 3x3 matrix in the kernels' row-major doubles.
+fn matrix_out(m: &Matrix3<f64>) -> [f64; 9] {
+    std::array::from_fn(|k| m[(k / 3, k % 3)])
+}
+
+/// The C form of a library spring, field by field.
+fn spring_out(s: &Spring) -> FractumSpring {
+    FractumSpring {
+        on_a: s.on_a.into(),
+        on_b: s.on_b.into(),
+        direction: s.direction.into(),
+        f0: s.f0,
+        k: s.k,
+        opening: s.opening,
+        last_gap: s.last_gap.into(),
+        last_force: s.last_force.into(),
+        broken: i32::from(s.broken),
+    }
+}
