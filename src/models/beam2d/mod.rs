@@ -163,11 +163,11 @@ fn make_beams(
     let t = sample.info.thickness;
     let p = &sample.polygons;
     let loose = match loading {
-        Beam2dLoading::Projectile { polygon, .. }
-            if cfg.loading.projectile == Some(scene::Projectile::Free) =>
-        {
-            Some(*polygon)
-        }
+        Beam2dLoading::Projectile {
+            polygon,
+            free: true,
+            ..
+        } => Some(*polygon),
         _ => None,
     };
     for s in &sample.sides {
