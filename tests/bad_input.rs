@@ -247,6 +247,20 @@ fn beam2d_keys_name_their_ranges() {
         &["--set", "sample.diameter=0.02"],
         &["sample.diameter", "three lattice spacings"],
     );
+    fails(
+        &b,
+        &["--set", "material.beam_breaking_rule=\"von_mises\""],
+        &[
+            "material.beam_breaking_rule",
+            "von_mises",
+            "eq13, squared, mean_angle, either_sign",
+        ],
+    );
+    fails(
+        &b,
+        &["--set", "loading.explosive=\"gone\""],
+        &["loading.explosive", "gone", "spent, kept"],
+    );
 }
 
 #[test]
@@ -271,6 +285,11 @@ fn beam2d_combinations_that_do_not_go_together() {
             "loading.speed=400",
         ],
         &["sample.outline", "disc", "rectangle"],
+    );
+    fails(
+        &b,
+        &["--set", "loading.projectile=\"free\""],
+        &["loading.projectile", "explosion", "\"projectile\" only"],
     );
     fails(
         &b,

@@ -185,23 +185,59 @@ pub fn beam_energy(alpha: f64, own: f64, crossed: f64, stretch: f64, ti: f64, tj
     0.5 * alpha * stretch * stretch + 0.5 * (own * (ti * ti + tj * tj) + 2.0 * crossed * ti * tj)
 }
 
-/// The breaking rule (Eq. 13): only stretched beams break.
+/// How the two terms of the breaking rule combine. `Eq13` is the paper's rule as printed;
+/// the others are the alternative readings the beam2d ablation measures
+/// (docs/validation.md, "Ablation").
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum BreakingForm {
+    /// `(ε/t_ε)² + max(|Θ^i|, |Θ^j|)/t_Θ ≥ 1`, stretched beams only (Eq. 13 as printed).
+    #[default]
+    Eq13,
+    /// `(ε/t_ε)² + (max(|Θ^i|, |Θ^j|)/t_Θ)² ≥ 1`: both terms squared (an elliptic criterion).
+    Squared,
+    /// `(ε/t_ε)² + (|Θ^i| + |Θ^j|)/(2 t_Θ) ≥ 1`: the mean of the two ends' angles.
+    MeanAngle,
+    /// Eq. 13 with |ε|: compressed beams break as well.
+    EitherSign,
+}
+
+impl BreakingForm {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            BreakingForm::Eq13 => "eq13",
+            BreakingForm::Squared => "squared",
+            BreakingForm::MeanAngle => "mean_angle",
+            BreakingForm::EitherSign => "either_sign",
+        }
+    }
+}
+
+/// The breaking rule (Eq. 13): only stretched beams break (unless `form` says otherwise).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BreakingRule {
     /// Stretching threshold t_ε.
     pub strain: f64,
     /// Bending threshold t_Θ (rad).
     pub bending: f64,
+    /// How the terms combine.
+    pub form: BreakingForm,
 }
 
 impl BreakingRule {
     #[inline(always)]
     pub fn breaks(&self, r: &BeamResponse) -> bool {
-        if r.strain <= 0.0 {
+        if r.strain <= 0.0 && self.form != BreakingForm::EitherSign {
             return false;
         }
         let s = r.strain / self.strain;
-        s * s + r.theta_i.abs().max(r.theta_j.abs()) / self.bending >= 1.0
+        let (ti, tj) = (r.theta_i.abs(), r.theta_j.abs());
+        let bend = match self.form {
+            BreakingForm::Eq13 | BreakingForm::EitherSign => ti.max(tj) / self.bending,
+            BreakingForm::Squared => (ti.max(tj) / self.bending).powi(2),
+            BreakingForm::MeanAngle => 0.5 * (ti + tj) / self.bending,
+        };
+        s * s + bend >= 1.0
     }
 }
 
@@ -335,6 +371,7 @@ mod tests {
         let rule = BreakingRule {
             strain: 0.03,
             bending: 4f64.to_radians(),
+            form: BreakingForm::Eq13,
         };
         let r = |strain: f64, ti: f64| BeamResponse {
             strain,
@@ -348,5 +385,32 @@ mod tests {
         assert!(!rule.breaks(&r(0.03 * 0.5f64.sqrt() * 0.999, 2f64.to_radians())));
         // Compressed and bent far past the threshold: holds.
         assert!(!rule.breaks(&r(-0.01, 0.5)));
+    }
+
+    #[test]
+    fn the_alternative_forms_differ_where_they_should() {
+        let rule = |form| BreakingRule {
+            strain: 0.03,
+            bending: 4f64.to_radians(),
+            form,
+        };
+        let r = |strain: f64, ti: f64, tj: f64| BeamResponse {
+            strain,
+            theta_i: ti,
+            theta_j: tj,
+            ..Default::default()
+        };
+        // Half the strain threshold (1/4) and 0.8 of the bending one at one end only.
+        let bent = r(0.015, 3.2f64.to_radians(), 0.0);
+        assert!(rule(BreakingForm::Eq13).breaks(&bent)); // 0.25 + 0.8
+        assert!(!rule(BreakingForm::Squared).breaks(&bent)); // 0.25 + 0.64
+        assert!(!rule(BreakingForm::MeanAngle).breaks(&bent)); // 0.25 + 0.4
+        // Which end is bent does not matter: the rule takes the larger angle.
+        let other = r(0.015, 0.0, -3.2f64.to_radians());
+        assert!(rule(BreakingForm::Eq13).breaks(&other));
+        // Compressed past the threshold: only EitherSign breaks it.
+        let squeezed = r(-0.031, 0.0, 0.0);
+        assert!(!rule(BreakingForm::Eq13).breaks(&squeezed));
+        assert!(rule(BreakingForm::EitherSign).breaks(&squeezed));
     }
 }

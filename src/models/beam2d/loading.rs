@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::{Beam2dScene, LoadingKind};
+use super::scene::{Beam2dScene, Explosive, LoadingKind, Projectile};
 use crate::error::Result;
 use crate::probe::Series;
 use crate::sample::lattice2d::{PolygonSample, SIDE_BOTTOM, SIDE_LEFT, SIDE_RIGHT, SIDE_TOP};
@@ -141,6 +141,9 @@ pub enum Beam2dLoading {
         explosive_mass: f64,
         explosive_centre: [f64; 2],
         kicked: usize,
+        /// Removed (the default) or kept at rest, bonded to its neighbours.
+        #[serde(default = "spent_default")]
+        spent: bool,
     },
     /// One polygon at the lower middle gets `speed` into the block.
     Projectile {
@@ -148,6 +151,9 @@ pub enum Beam2dLoading {
         quiet_steps: u64,
         end_time: f64,
         polygon: usize,
+        /// Its beams cut before the start (`loading.projectile = "free"`).
+        #[serde(default)]
+        free: bool,
     },
 }
 
@@ -198,6 +204,7 @@ impl Beam2dLoading {
                     quiet_steps: l.quiet_steps.unwrap_or(300),
                     end_time: l.end_time.expect("validated"),
                     polygon,
+                    free: l.projectile == Some(Projectile::Free),
                 }
             }
         })
@@ -290,17 +297,25 @@ impl Beam2dLoading {
                 quiet_steps,
                 explosive_mass,
                 kicked,
+                spent,
                 ..
             } => format!(
-                "explosion: the centre polygon ({explosive_mass:e} kg) is spent and kicks its {kicked} neighbours off normal to the shared sides, v = C S/m, zero momentum, energy {energy:e} J; stops after {quiet_steps} steps without a break"
+                "explosion: the centre polygon ({explosive_mass:e} kg) {} and kicks its {kicked} neighbours off normal to the shared sides, v = C S/m, zero momentum, energy {energy:e} J; stops after {quiet_steps} steps without a break",
+                if *spent {
+                    "is spent"
+                } else {
+                    "stays at rest, bonded,"
+                }
             ),
             Beam2dLoading::Projectile {
                 speed,
                 quiet_steps,
                 polygon,
+                free,
                 ..
             } => format!(
-                "projectile: polygon {polygon} at the lower middle starts at {speed} m/s into the block; stops after {quiet_steps} steps without a break"
+                "projectile: polygon {polygon} at the lower middle{} starts at {speed} m/s into the block; stops after {quiet_steps} steps without a break",
+                if *free { ", its beams cut," } else { "" }
             ),
         }
     }
@@ -415,7 +430,11 @@ fn driven(
     })
 }
 
-/// The explosion's initial velocities; removes the explosive polygon.
+fn spent_default() -> bool {
+    true
+}
+
+/// The explosion's initial velocities; removes the explosive polygon (unless kept).
 fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Result<Beam2dLoading> {
     let l = &cfg.loading;
     let energy = l.energy.expect("validated");
@@ -479,7 +498,10 @@ fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Resu
     for (k, v) in &velocity {
         sample.polygons.v[*k] = [v.x * scale, v.y * scale, 0.0];
     }
-    sample.remove(k0);
+    let spent = l.explosive.unwrap_or_default() == Explosive::Spent;
+    if spent {
+        sample.remove(k0);
+    }
     Ok(Beam2dLoading::Explosion {
         energy,
         quiet_steps: l.quiet_steps.unwrap_or(300),
@@ -487,5 +509,6 @@ fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Resu
         explosive_mass,
         explosive_centre,
         kicked: velocity.len(),
+        spent,
     })
 }

@@ -147,8 +147,14 @@ fn polygon_pipeline(scene: &Scene, cfg: &Beam2dScene, st: &Beam2dState) -> Polyg
     PolygonPipeline::build(scene, cfg, &st.polygons, &st.beams, skin)
 }
 
-/// The beams over the sample's shared sides (only with the `beams` effect).
-fn make_beams(scene: &Scene, cfg: &Beam2dScene, sample: &PolygonSample) -> Beams {
+/// The beams over the sample's shared sides (only with the `beams` effect); none to a free
+/// projectile.
+fn make_beams(
+    scene: &Scene,
+    cfg: &Beam2dScene,
+    sample: &PolygonSample,
+    loading: &Beam2dLoading,
+) -> Beams {
     let mut beams = Beams::default();
     if !scene.has_effect(EffectKind::Beams) {
         return beams;
@@ -156,8 +162,19 @@ fn make_beams(scene: &Scene, cfg: &Beam2dScene, sample: &PolygonSample) -> Beams
     let young = cfg.material.beam_young.expect("validated");
     let t = sample.info.thickness;
     let p = &sample.polygons;
+    let loose = match loading {
+        Beam2dLoading::Projectile {
+            polygon,
+            free: true,
+            ..
+        } => Some(*polygon),
+        _ => None,
+    };
     for s in &sample.sides {
         let (i, j) = (s.i as usize, s.j as usize);
+        if loose.is_some_and(|k| k == i || k == j) {
+            continue;
+        }
         beams.push([i, j], [p.centre(i), p.centre(j)], s.length, t, young);
     }
     beams
@@ -289,11 +306,16 @@ impl Beam2d {
 
     /// Masses (kg) of the fragments of two or more polygons: what the histogram is made of.
     pub fn multi_polygon_fragment_masses(&self) -> Vec<f64> {
+        self.fragment_masses_from(2)
+    }
+
+    /// Masses (kg) of the fragments of at least `polygons` polygons (1: every fragment).
+    pub fn fragment_masses_from(&self, polygons: usize) -> Vec<f64> {
         let (_, masses, sizes) = self.fragment_masses();
         masses
             .iter()
             .zip(&sizes)
-            .filter(|(_, s)| **s >= 2)
+            .filter(|(_, s)| **s >= polygons)
             .map(|(m, _)| *m)
             .collect()
     }
@@ -407,12 +429,25 @@ impl Beam2d {
 /// of the runs' mean polygon mass, per run; fitted by the first run's `fragments` rule.
 pub fn averaged_power_law(runs: &[&Beam2dRun]) -> Option<PowerLawFit> {
     let first = runs.first()?;
+    averaged_power_law_by(runs, &first.cfg.fragments, 2)
+}
+
+/// [`averaged_power_law`] by another fit rule `spec`, over the fragments of at least
+/// `polygons` polygons (the beam2d ablation's fragment definition and fit window).
+pub fn averaged_power_law_by(
+    runs: &[&Beam2dRun],
+    spec: &scene::FragmentSpec,
+    polygons: usize,
+) -> Option<PowerLawFit> {
+    if runs.is_empty() {
+        return None;
+    }
     let unit = runs.iter().map(|r| r.mean_polygon_mass).sum::<f64>() / runs.len() as f64;
     let masses: Vec<f64> = runs
         .iter()
-        .flat_map(|r| r.multi_polygon_fragment_masses())
+        .flat_map(|r| r.fragment_masses_from(polygons))
         .collect();
-    first.cfg.fragments.fit(&masses, unit, runs.len())
+    spec.fit(&masses, unit, runs.len())
 }
 
 /// β's 95% interval over the seeds of [`averaged_power_law`]: 2000 bootstrap resamples of the
@@ -449,7 +484,7 @@ impl Model for Beam2d {
         ));
         let mean_polygon_mass = sample.polygons.total_mass() / sample.polygons.len() as f64;
         let loading = Beam2dLoading::prepare(scene, &cfg, &mut sample)?;
-        let beams = make_beams(scene, &cfg, &sample);
+        let beams = make_beams(scene, &cfg, &sample, &loading);
         let dt_critical = critical_time_step(scene, &cfg, &sample, &beams);
         let dt = scene.time.step(dt_critical);
         if !dt.is_finite() {

@@ -15,7 +15,7 @@
 use rayon::prelude::*;
 
 use super::scene::Beam2dScene;
-use crate::bond::beam2d::{Beams, BreakingRule};
+use crate::bond::beam2d::{Beams, BreakingForm, BreakingRule};
 use crate::contact::neighbor::PairList;
 use crate::contact::overlap_area_2d::{
     ClipBuffers, OverlapLaw, characteristic_length, contact_force, overlap_in,
@@ -104,6 +104,7 @@ impl PolygonPipeline {
                 let rule = BreakingRule {
                     strain: m.beam_strain_threshold.expect("validated"),
                     bending: m.beam_bending_threshold.expect("validated"),
+                    form: m.beam_breaking_rule,
                 };
                 Box::new(BeamForces::<true>::new(
                     polys.len(),
@@ -424,9 +425,29 @@ impl<const BREAK: bool> BeamEffect for BeamForces<BREAK> {
             self.young
         );
         if let Some(r) = self.rule {
+            let (what, rule) = match r.form {
+                BreakingForm::Eq13 => (
+                    "stretched beams",
+                    "(eps/{s})^2 + max|Theta|/{b} >= 1 (Eq. 13)",
+                ),
+                BreakingForm::Squared => (
+                    "stretched beams",
+                    "(eps/{s})^2 + (max|Theta|/{b})^2 >= 1 (not Eq. 13: both terms squared)",
+                ),
+                BreakingForm::MeanAngle => (
+                    "stretched beams",
+                    "(eps/{s})^2 + (|Theta_i| + |Theta_j|)/(2 {b}) >= 1 (not Eq. 13: the ends' mean angle)",
+                ),
+                BreakingForm::EitherSign => (
+                    "beams stretched or compressed",
+                    "(eps/{s})^2 + max|Theta|/{b} >= 1 (not Eq. 13: compressed beams break too)",
+                ),
+            };
+            let rule = rule
+                .replace("{s}", &r.strain.to_string())
+                .replace("{b}", &r.bending.to_string());
             s.push_str(&format!(
-                "; beam_breaking: stretched beams break when (eps/{})^2 + max|Theta|/{} >= 1 (Eq. 13), for good",
-                r.strain, r.bending
+                "; beam_breaking: {what} break when {rule}, for good"
             ));
         }
         s

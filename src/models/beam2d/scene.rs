@@ -3,6 +3,7 @@
 
 use serde::Deserialize;
 
+use crate::bond::beam2d::BreakingForm;
 use crate::error::Result;
 use crate::probe::fragments::{PowerLawFit, fit_power_law, fit_power_law_counted, mass_histogram};
 use crate::sample::lattice2d::Outline;
@@ -31,6 +32,10 @@ pub struct Material {
     pub normal_damping: Option<f64>,
     /// Tangential (friction) coefficient γ_T (1/s), ≥ 0.
     pub tangential_damping: Option<f64>,
+    /// How the breaking rule's terms combine: "eq13" (default, the paper's Eq. 13 as
+    /// printed), "squared", "mean_angle" or "either_sign" (docs/validation.md, "Ablation").
+    #[serde(default)]
+    pub beam_breaking_rule: BreakingForm,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -103,6 +108,31 @@ pub struct LoadingSpec {
     pub quiet_steps: Option<u64>,
     /// The longest an explosion or projectile run may last (s).
     pub end_time: Option<f64>,
+    /// The explosion's centre polygon: "spent" (default: removed once it has kicked its
+    /// neighbours) or "kept" (left at rest, still bonded to them); explosion only.
+    pub explosive: Option<Explosive>,
+    /// The projectile polygon: "bonded" (default: a polygon of the block, its beams intact) or
+    /// "free" (its beams cut before the start: a loose grain shot into the block); projectile
+    /// only.
+    pub projectile: Option<Projectile>,
+}
+
+/// What becomes of the explosion's centre polygon.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Explosive {
+    #[default]
+    Spent,
+    Kept,
+}
+
+/// Whether the projectile polygon starts bonded to the block.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Projectile {
+    #[default]
+    Bonded,
+    Free,
 }
 
 /// How fragment masses are binned and where the power law F(m) ~ m^-β is fitted
@@ -320,6 +350,22 @@ fn validate_loading(s: &Scene, l: &LoadingSpec, p: &SampleSpec) -> Result<()> {
         p.outline,
         "for sample.kind = \"vectorizable_random_lattice\"",
     )?;
+    if l.explosive.is_some() && l.kind != LoadingKind::Explosion {
+        return Err(s.key_error(
+            "loading.explosive",
+            format!(
+                "is given {why}; it belongs to loading.kind = \"explosion\" only, so remove it"
+            ),
+        ));
+    }
+    if l.projectile.is_some() && l.kind != LoadingKind::Projectile {
+        return Err(s.key_error(
+            "loading.projectile",
+            format!(
+                "is given {why}; it belongs to loading.kind = \"projectile\" only, so remove it"
+            ),
+        ));
+    }
     match l.kind {
         LoadingKind::ElasticModuli | LoadingKind::ConfinedCompression => {
             if outline != Outline::Rectangle {
