@@ -3,7 +3,7 @@
 use std::fmt::Write as _;
 
 use super::pipeline::PolygonPipeline;
-use super::scene::{Beam2dScene, EFFECTS, LoadingKind};
+use super::scene::{Beam2dScene, EFFECTS};
 use crate::bond::beam2d::Beams;
 use crate::error::Result;
 use crate::explain::write_pipeline;
@@ -59,35 +59,11 @@ pub fn explain(scene: &Scene) -> Result<String> {
         &EFFECTS,
         "polygons move freely",
     );
-    let l = &cfg.loading;
-    let loading = match l.kind {
-        LoadingKind::ElasticModuli => format!(
-            "elastic moduli: top and bottom layers pulled apart at strain rate {} 1/s (ramp {} s) to strain {}, then compressed from the start to -{}",
-            l.strain_rate.unwrap_or_default(),
-            l.ramp_time.unwrap_or(0.0),
-            l.end_strain.unwrap_or_default(),
-            l.end_strain.unwrap_or_default()
-        ),
-        LoadingKind::ConfinedCompression => format!(
-            "confined compression at strain rate {} 1/s (ramp {} s) to strain -{}; layers' x and rotation fixed",
-            l.strain_rate.unwrap_or_default(),
-            l.ramp_time.unwrap_or(0.0),
-            l.end_strain.unwrap_or_default()
-        ),
-        LoadingKind::Explosion => format!(
-            "explosion of the centre polygon, energy {:e} J; stops after {} steps without a break or at {:e} s",
-            l.energy.unwrap_or_default(),
-            l.quiet_steps.unwrap_or(300),
-            l.end_time.unwrap_or_default()
-        ),
-        LoadingKind::Projectile => format!(
-            "projectile: the polygon at the lower middle starts at {} m/s upwards; stops after {} steps without a break or at {:e} s",
-            l.speed.unwrap_or_default(),
-            l.quiet_steps.unwrap_or(300),
-            l.end_time.unwrap_or_default()
-        ),
-    };
-    let _ = writeln!(s, "loading: {loading}");
+    let _ = writeln!(
+        s,
+        "loading: {}",
+        super::loading::Beam2dLoading::describe(&cfg.loading)
+    );
     let dt = scene
         .time
         .describe_step("the estimated stability limit 2/omega of the stiffest polygon");

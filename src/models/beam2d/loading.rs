@@ -9,7 +9,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::{Beam2dScene, Explosive, LoadingKind, Projectile};
+use super::scene::{Beam2dScene, Explosive, LoadingKind, LoadingSpec, Projectile};
 use crate::error::Result;
 use crate::probe::Series;
 use crate::sample::lattice2d::{PolygonSample, SIDE_BOTTOM, SIDE_LEFT, SIDE_RIGHT, SIDE_TOP};
@@ -272,50 +272,42 @@ impl Beam2dLoading {
         }
     }
 
-    /// A line for `fractum explain` and the run's start.
-    pub fn describe(&self) -> String {
-        match self {
-            Beam2dLoading::ElasticModuli(d) => format!(
-                "elastic moduli: top and bottom layers ({} + {} polygons, free sideways) pulled apart at {:e} m/s each (after a {:e} s ramp) to strain {}, then pushed together from the start to -{}; sides free (plane stress)",
-                d.bottom.len(),
-                d.top.len(),
-                d.speed,
-                d.ramp_time,
-                d.end_strain,
-                d.end_strain
+    /// The loading as `fractum explain` states it, from the scene's `[loading]` table (the
+    /// lattice, which sets the layers and the polygons kicked, is not built to explain it).
+    pub fn describe(l: &LoadingSpec) -> String {
+        match l.kind {
+            LoadingKind::ElasticModuli => format!(
+                "elastic moduli: top and bottom layers pulled apart at strain rate {} 1/s (ramp {} s) to strain {}, then compressed from the start to -{}",
+                l.strain_rate.unwrap_or_default(),
+                l.ramp_time.unwrap_or(0.0),
+                l.end_strain.unwrap_or_default(),
+                l.end_strain.unwrap_or_default()
             ),
-            Beam2dLoading::ConfinedCompression(d) => format!(
-                "confined compression: top and bottom layers ({} + {} polygons, x and rotation fixed) pushed together at {:e} m/s each (after a {:e} s ramp) to strain -{}; sides free",
-                d.bottom.len(),
-                d.top.len(),
-                d.speed,
-                d.ramp_time,
-                d.end_strain
+            LoadingKind::ConfinedCompression => format!(
+                "confined compression at strain rate {} 1/s (ramp {} s) to strain -{}; layers' x and rotation fixed",
+                l.strain_rate.unwrap_or_default(),
+                l.ramp_time.unwrap_or(0.0),
+                l.end_strain.unwrap_or_default()
             ),
-            Beam2dLoading::Explosion {
-                energy,
-                quiet_steps,
-                explosive_mass,
-                kicked,
-                spent,
-                ..
-            } => format!(
-                "explosion: the centre polygon ({explosive_mass:e} kg) {} and kicks its {kicked} neighbours off normal to the shared sides, v = C S/m, zero momentum, energy {energy:e} J; stops after {quiet_steps} steps without a break",
-                if *spent {
-                    "is spent"
-                } else {
-                    "stays at rest, bonded,"
-                }
+            LoadingKind::Explosion => format!(
+                "explosion of the centre polygon, energy {:e} J{}; stops after {} steps without a break or at {:e} s",
+                l.energy.unwrap_or_default(),
+                match l.explosive.unwrap_or_default() {
+                    Explosive::Spent => "",
+                    Explosive::Kept => " (the polygon stays, at rest and bonded)",
+                },
+                l.quiet_steps.unwrap_or(300),
+                l.end_time.unwrap_or_default()
             ),
-            Beam2dLoading::Projectile {
-                speed,
-                quiet_steps,
-                polygon,
-                free,
-                ..
-            } => format!(
-                "projectile: polygon {polygon} at the lower middle{} starts at {speed} m/s into the block; stops after {quiet_steps} steps without a break",
-                if *free { ", its beams cut," } else { "" }
+            LoadingKind::Projectile => format!(
+                "projectile: the polygon at the lower middle{} starts at {} m/s upwards; stops after {} steps without a break or at {:e} s",
+                match l.projectile.unwrap_or_default() {
+                    Projectile::Bonded => "",
+                    Projectile::Free => ", its beams cut,",
+                },
+                l.speed.unwrap_or_default(),
+                l.quiet_steps.unwrap_or(300),
+                l.end_time.unwrap_or_default()
             ),
         }
     }
