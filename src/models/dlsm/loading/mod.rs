@@ -98,8 +98,11 @@ fn extent_along(s: &DlsmSample, direction: &Vec3) -> (f64, f64) {
 
 /// What a loading is built from: the scene, its dlsm tables and the sample they built.
 pub struct Setting<'a> {
+    /// The scene: its effects, gravity and key errors.
     pub scene: &'a Scene,
+    /// The scene's dlsm tables: material, sample and loading.
     pub cfg: &'a DlsmScene,
+    /// The sample built from them.
     pub sample: &'a DlsmSample,
 }
 
@@ -260,6 +263,18 @@ impl DlsmLoading {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn free_keeps_the_checkpoint_bytes_of_the_struct_variant_it_was() {
+        // Checkpoints written while `Free` was `Free { end_time }` restore as `Free(Free)`.
+        #[derive(Serialize)]
+        enum Before {
+            Free { end_time: f64 },
+        }
+        let now = postcard::to_stdvec(&DlsmLoading::Free(Free { end_time: 1.25e-2 }));
+        let before = postcard::to_stdvec(&Before::Free { end_time: 1.25e-2 });
+        assert_eq!(now.expect("encodes"), before.expect("encodes"));
+    }
 
     #[test]
     fn ramp_is_smooth_and_reaches_one() {
