@@ -2,9 +2,9 @@
 
 use std::fmt::Write;
 
-use super::loading::arc_factor;
-use super::scene::{DlsmScene, LoadBy, LoadingKind};
-use super::{DEFAULT_PHI, JAW_RADIUS, sample};
+use super::loading::DlsmLoading;
+use super::scene::DlsmScene;
+use super::{DEFAULT_PHI, sample};
 use crate::error::Result;
 use crate::scene::{EffectKind, IntegratorKind, Scene};
 
@@ -89,57 +89,7 @@ pub fn explain(scene: &Scene) -> Result<String> {
     if !left_out.is_empty() {
         let _ = writeln!(s, "not built (not in `effects`): {}", left_out.join(", "));
     }
-    let l = &cfg.loading;
-    let loading = match l.kind {
-        LoadingKind::Tension => format!(
-            "tension: x- and x+ face elements pulled apart at {} 1/s to strain {}",
-            l.strain_rate.unwrap_or(0.0),
-            l.end_strain.unwrap_or(0.0)
-        ),
-        LoadingKind::FreeVibration => format!(
-            "free vibration from a static {:?} field, x- clamped, for {:e} s",
-            l.mode,
-            l.end_time.unwrap_or(0.0)
-        ),
-        LoadingKind::Brazilian if l.load_by == Some(LoadBy::FlatPlatens) => format!(
-            "Brazilian test between two rigid flat platens (frictional contacts), {} m/s per side to diametral strain {}, force read on the platens (Eq. 46)",
-            l.speed.unwrap_or(0.0),
-            l.end_strain.unwrap_or(0.0)
-        ),
-        LoadingKind::Brazilian if l.load_by == Some(LoadBy::CurvedJaws) => format!(
-            "Brazilian test between two rigid curved jaws of radius {JAW_RADIUS} R (frictional contacts), {} m/s per side to diametral strain {}, force read on the jaws (Eq. 46, and Eq. 48 at the contact arc they make)",
-            l.speed.unwrap_or(0.0),
-            l.end_strain.unwrap_or(0.0)
-        ),
-        LoadingKind::Brazilian if l.load_by == Some(LoadBy::ArcPressure) => {
-            let arc = l.arc_degrees.unwrap_or(0.0);
-            format!(
-                "Brazilian test, a uniform radial pressure over loading arcs of {arc} degrees (k = {:.4}, Eq. 47) set by a servo on their closure, commanded at {} m/s per side to diametral strain {}; the disc's rigid motions held",
-                arc_factor(0.5 * arc.to_radians()),
-                l.speed.unwrap_or(0.0),
-                l.end_strain.unwrap_or(0.0)
-            )
-        }
-        LoadingKind::Brazilian => {
-            let arc = l.arc_degrees.unwrap_or(0.0);
-            format!(
-                "Brazilian test, the elements of a loading arc of {arc} degrees driven (k = {:.4}, Eq. 47), {} m/s per side to diametral strain {}",
-                arc_factor(0.5 * arc.to_radians()),
-                l.speed.unwrap_or(0.0),
-                l.end_strain.unwrap_or(0.0)
-            )
-        }
-        LoadingKind::Drop => format!(
-            "drop at {:?} m/s onto a ground inclined {} degrees, for {:e} s",
-            l.initial_velocity.unwrap_or([0.0; 3]),
-            l.ground_angle_degrees.unwrap_or(0.0),
-            l.end_time.unwrap_or(0.0)
-        ),
-        LoadingKind::None => format!(
-            "none: nothing prescribed for {:e} s",
-            l.end_time.unwrap_or(0.0)
-        ),
-    };
+    let loading = DlsmLoading::describe(&cfg.loading);
     let _ = writeln!(s, "loading: {loading}");
     let integrator = match scene.time.integrator {
         IntegratorKind::TchamwaWielgosz => format!(

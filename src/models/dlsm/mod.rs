@@ -30,15 +30,16 @@ use crate::error::{Error, Result};
 use crate::integrate::TchamwaWielgosz;
 use crate::output::vtk;
 use crate::run::{Built, Clock, Model, RunInfo, Runner, end_step};
-use crate::sample::voronoi::{BOX_FACES, Boundary, Domain};
+use crate::sample::voronoi::Domain;
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::shape::polyhedron::Polyhedron;
 use crate::state::{Bodies, Forces, Vec3};
-use loading::{ArcPressure, Brazilian, DlsmLoading, Drop, FreeVibration, RowInputs, Tension};
+use loading::{Brazilian, DlsmLoading, RowInputs, Setting};
 use sample::{DlsmSample, DlsmSampleInfo};
-use scene::{DlsmScene, LoadBy, LoadingKind, VibrationMode};
+use scene::DlsmScene;
 
 pub use explain::explain;
+pub use loading::JAW_RADIUS;
 
 /// A dlsm run: the generic runner over the dlsm model.
 pub type DlsmRun = Runner<Dlsm>;
@@ -55,15 +56,6 @@ pub const DEFAULT_PHI: f64 = 2.0;
 /// (undamped at 2000 elements: 2x at 2.5e-4 s, 4x at 3.3e-4 s, NaN at 1.9e-3 s), so the
 /// margin costs it a few hundred steps.
 pub const ENERGY_GROWTH_LIMIT: f64 = 4.0;
-/// Default ramp of prescribed speeds, as a fraction of the loading time.
-const DEFAULT_RAMP: f64 = 0.1;
-/// Default `stop_fraction` with fracture.
-const DEFAULT_STOP: f64 = 0.2;
-/// Radius of the curved jaws over the disc's radius: the ISRM suggested method's 1.5.
-pub const JAW_RADIUS: f64 = 1.5;
-/// Default servo stiffness of the arcs' pressure, over E t: about 30 times the diametral
-/// stiffness of the 20° disc (0.34 E t), so that the closure follows the command.
-const SERVO_STIFFNESS: f64 = 10.0;
 
 /// Where and when the first contact broke.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
@@ -145,7 +137,11 @@ impl Dlsm {
             info,
         } = &s;
         let m = &cfg.material;
-        let loading = build_loading(scene, &cfg, &s)?;
+        let loading = DlsmLoading::build(&Setting {
+            scene,
+            cfg: &cfg,
+            sample: &s,
+        })?;
         let tensile_strength = if scene.has_effect(EffectKind::Fracture) {
             m.tensile_strength
         } else {
@@ -211,7 +207,7 @@ impl Dlsm {
         let reference = bodies.pos.clone();
         if let DlsmLoading::FreeVibration(v) = &loading {
             for (p, seed) in bodies.pos.iter_mut().zip(seeds) {
-                *p += initial_displacement(v, seed);
+                *p += v.initial_displacement(seed);
             }
         }
         if let DlsmLoading::Drop(_) = &loading {
@@ -307,9 +303,9 @@ impl Dlsm {
                 *f += g * m;
             }
         }
-        st.loading
-            .press(&st.bodies, &self.shapes, &mut st.forces, at, clock.dt);
-        st.loading.constrain(&mut st.forces);
+        let loading = st.loading.as_loading_mut();
+        loading.press(&st.bodies, &self.shapes, &mut st.forces, at, clock.dt);
+        loading.constrain(&mut st.forces);
     }
 
     fn record_breaks(&mut self, clock: &Clock, broke: &[usize]) {
@@ -366,7 +362,7 @@ impl Dlsm {
                 series.rows.pop();
             }
         }
-        st.loading.summarize(&series, dt_row, m);
+        st.loading.as_loading().summarize(&series, dt_row, m);
         if let Some(fb) = &st.first_break {
             m.insert("first_break_step".into(), fb.step.into());
             m.insert("first_break_time".into(), fb.time.into());
@@ -441,9 +437,9 @@ impl Model for Dlsm {
         let s = sample::build(scene, &cfg, progress)?;
         let (mut model, dt, warnings) = Dlsm::assemble(scene, cfg, s)?;
         model.check_step(scene, dt)?;
-        let columns = model.state.loading.columns();
-        crate::run::check_planned_steps(scene, model.state.loading.end_time(), dt)?;
-        let end_time = model.state.loading.end_time();
+        let columns = model.state.loading.as_loading().columns();
+        let end_time = model.state.loading.as_loading().end_time();
+        crate::run::check_planned_steps(scene, end_time, dt)?;
         let end = end_step(end_time, dt);
         let start = Clock {
             time: 0.0,
@@ -452,7 +448,11 @@ impl Model for Dlsm {
             end_step: end,
             end_time,
         };
-        model.state.loading.prescribe(&mut model.state.bodies, 0.0);
+        model
+            .state
+            .loading
+            .as_loading()
+            .prescribe(&mut model.state.bodies, 0.0);
         model.evaluate_forces(&start, 0.0);
         Ok(Built {
             model,
@@ -500,6 +500,7 @@ impl Model for Dlsm {
     fn step(&mut self, clock: &Clock, dt: f64) {
         self.state
             .loading
+            .as_loading()
             .prescribe(&mut self.state.bodies, clock.time + 0.5 * dt);
         let st = &mut self.state;
         self.integrator.kick_drift(&mut st.bodies, &st.forces, dt);
@@ -533,11 +534,11 @@ impl Model for Dlsm {
             contact_energy: st.ground.as_ref().map_or(0.0, |g| g.energy),
             ground_contacts: st.ground.as_ref().map_or(0, |g| g.contacts),
         };
-        st.loading.row(&inputs)
+        st.loading.as_loading_mut().row(&inputs)
     }
 
     fn after_row(&mut self, _clock: &Clock, series: &crate::probe::Series) {
-        if self.state.loading.failed(series) {
+        if self.state.loading.as_loading().failed(series) {
             self.state.stopped = true;
         }
         // Free vibration and the drop put no work in after the start: their total energy can
@@ -643,7 +644,7 @@ pub fn lattice_highest_frequency(
     let mut forces = Forces::new(n);
     let mut evaluate = |b: &Bodies| {
         bonds.evaluate(b, &mut forces, None);
-        loading.constrain(&mut forces);
+        loading.as_loading_mut().constrain(&mut forces);
         forces
             .force
             .iter()
@@ -667,301 +668,4 @@ pub fn lattice_highest_frequency(
         )
     });
     (lambda.sqrt(), largest_motion(&mode).0)
-}
-
-/// The static field a free vibration starts from, at `x` (Section 8.2.2).
-fn initial_displacement(v: &FreeVibration, x: &Vec3) -> Vec3 {
-    match v.mode {
-        VibrationMode::Tension => Vec3::new(v.amplitude * x.x, 0.0, 0.0),
-        VibrationMode::Torsion => {
-            let (s, c) = (v.amplitude * x.x).sin_cos();
-            Vec3::new(0.0, x.y * c - x.z * s - x.y, x.y * s + x.z * c - x.z)
-        }
-    }
-}
-
-/// The loading of a dlsm scene on its sample.
-fn build_loading(scene: &Scene, cfg: &DlsmScene, s: &DlsmSample) -> Result<DlsmLoading> {
-    let l = &cfg.loading;
-    let m = &cfg.material;
-    let strength = if scene.has_effect(EffectKind::Fracture) {
-        m.tensile_strength
-    } else {
-        None
-    };
-    let stop = l.stop_fraction.unwrap_or(DEFAULT_STOP);
-    let mean = |set: &[u32], axis: usize| {
-        set.iter()
-            .map(|&i| s.bodies.pos[i as usize][axis])
-            .sum::<f64>()
-            / set.len().max(1) as f64
-    };
-    let nonempty = |set: &Vec<u32>, what: &str| -> Result<()> {
-        if set.is_empty() {
-            Err(scene.key_error(
-                "sample.elements",
-                format!("gives no element on {what}; ask for more elements"),
-            ))
-        } else {
-            Ok(())
-        }
-    };
-    Ok(match l.kind {
-        LoadingKind::Tension => {
-            let Domain::Box { lo, hi } = s.domain else {
-                return Err(scene.key_error(
-                    "loading.kind",
-                    "= \"tension\" needs sample.kind = \"voronoi_box\"",
-                ));
-            };
-            let size = hi - lo;
-            let faces = BOX_FACES.map(|b| s.elements_on(b));
-            for (set, name) in faces.iter().zip(["x-", "x+", "y-", "y+", "z-", "z+"]) {
-                nonempty(set, name)?;
-            }
-            let gauge = [0, 1, 2].map(|a| mean(&faces[2 * a + 1], a) - mean(&faces[2 * a], a));
-            let rate = l.strain_rate.expect("validated");
-            let end = l.end_strain.expect("validated");
-            let middle = (0..s.bodies.len() as u32)
-                .filter(|&i| {
-                    let x = (s.bodies.pos[i as usize].x - lo.x) / size.x;
-                    (0.2..=0.8).contains(&x)
-                })
-                .collect();
-            let centre = lo.x + 0.5 * size.x;
-            let lever = [0, 1].map(|k: usize| {
-                faces[k]
-                    .iter()
-                    .map(|&i| s.bodies.pos[i as usize].x - centre)
-                    .collect()
-            });
-            DlsmLoading::Tension(Tension {
-                lever,
-                strain_rate: rate,
-                end_strain: end,
-                ramp_time: l.ramp_time.unwrap_or(DEFAULT_RAMP * end / rate),
-                length: size.x,
-                section: size.y * size.z,
-                faces,
-                gauge,
-                middle,
-                reaction: [0.0; 2],
-                stop_fraction: stop,
-                tensile_strength: strength,
-                grip: l.grip.unwrap_or_default(),
-            })
-        }
-        LoadingKind::FreeVibration => {
-            // The bar's length: the sample was made longer by the clamp's grip.
-            let length = cfg.sample.length.expect("validated");
-            let mode = l.mode.expect("validated");
-            let clamped = s.elements_on(Boundary::XMin);
-            let free = s.elements_on(Boundary::XMax);
-            nonempty(&clamped, "x-")?;
-            nonempty(&free, "x+")?;
-            let shear = m.young / (2.0 * (1.0 + m.poisson));
-            let (amplitude, modulus) = match mode {
-                VibrationMode::Tension => (l.initial_strain.unwrap_or(1e-5), m.young),
-                VibrationMode::Torsion => (l.twist.unwrap_or(1e-4), shear),
-            };
-            DlsmLoading::FreeVibration(FreeVibration {
-                mode,
-                amplitude,
-                end_time: l.end_time.expect("validated"),
-                length,
-                clamped,
-                free,
-                // Eq. 44 / 45.
-                frequency_theory: (modulus / m.density).sqrt() / (4.0 * length),
-            })
-        }
-        LoadingKind::Brazilian => {
-            let Domain::Disc {
-                diameter,
-                thickness,
-            } = s.domain
-            else {
-                return Err(scene.key_error(
-                    "loading.kind",
-                    "= \"brazilian\" needs sample.kind = \"voronoi_disc\"",
-                ));
-            };
-            let radius = 0.5 * diameter;
-            let half_angle = 0.5 * l.arc_degrees.unwrap_or(0.0).to_radians();
-            // Flat loading still needs elements to push: those within half an element of
-            // the top (bottom) of the disc.
-            let reach = half_angle.max(0.5 * s.info.element_size / radius);
-            let mut top = Vec::new();
-            let mut bottom = Vec::new();
-            for f in &s.boundary {
-                if f.boundary != Boundary::Curved {
-                    continue;
-                }
-                let from_vertical = f.centroid.x.atan2(f.centroid.y.abs()).abs();
-                if from_vertical <= reach {
-                    if f.centroid.y > 0.0 {
-                        top.push(f.element);
-                    } else {
-                        bottom.push(f.element);
-                    }
-                }
-            }
-            top.sort_unstable();
-            top.dedup();
-            bottom.sort_unstable();
-            bottom.dedup();
-            let by = l.load_by.unwrap_or(LoadBy::Elements);
-            // Prescribed elements and the arc pressure act on elements of the arcs; platens
-            // find what they touch themselves.
-            if !by.presses() {
-                nonempty(&top, "the top loading arc")?;
-                nonempty(&bottom, "the bottom loading arc")?;
-            }
-            let speed = l.speed.expect("validated");
-            let end = l.end_strain.expect("validated");
-            let gap = mean(&top, 1) - mean(&bottom, 1);
-            // Flat platens, or jaws of radius JAW_RADIUS R about z, touching the disc's
-            // highest and lowest vertices, their contacts as stiff as a cohesive contact of a
-            // mean element (E S / L0 with S = L0² = the element size squared) unless
-            // material.contact_stiffness says otherwise, with the material's friction.
-            let platens = if by.presses() {
-                let m = &cfg.material;
-                let k = m.contact_stiffness.unwrap_or(m.young * s.info.element_size);
-                let n = s.bodies.len();
-                [-1.0, 1.0]
-                    .map(|up| {
-                        let g = GroundContact::new(
-                            Vec3::zeros(),
-                            Vec3::new(0.0, up, 0.0),
-                            k,
-                            m.friction,
-                            n,
-                        );
-                        let mut g = if by == LoadBy::CurvedJaws {
-                            g.cylinder(JAW_RADIUS * radius, Vec3::z())
-                        } else {
-                            g
-                        };
-                        g.place_touching(vertices(s));
-                        g
-                    })
-                    .to_vec()
-            } else {
-                Vec::new()
-            };
-            let platen_start = match platens.as_slice() {
-                [top, bottom] => [top.point.y, bottom.point.y],
-                _ => [0.0; 2],
-            };
-            let pressure = (by == LoadBy::ArcPressure).then(|| {
-                // Who may hold a point of the arcs: the elements with a face on the curved
-                // wall within the arc or three elements beyond it.
-                let reach = half_angle + 3.0 * s.info.element_size / radius;
-                let mut near: Vec<u32> = s
-                    .boundary
-                    .iter()
-                    .filter(|f| {
-                        f.boundary == Boundary::Curved
-                            && f.centroid.x.atan2(f.centroid.y.abs()).abs() <= reach
-                    })
-                    .map(|f| f.element)
-                    .collect();
-                near.sort_unstable();
-                near.dedup();
-                let stiffness = l
-                    .servo_stiffness
-                    .unwrap_or(SERVO_STIFFNESS * cfg.material.young * thickness);
-                // Sampled every 1/40 of an element: its share of the arc to about 2.5%.
-                let spacing = s.info.element_size / 40.0;
-                ArcPressure::new(
-                    &s.bodies,
-                    &near,
-                    [radius, thickness, half_angle, spacing],
-                    stiffness,
-                )
-            });
-            let gap = match (&pressure, platens.is_empty()) {
-                (Some(_), _) => diameter,
-                (None, true) => gap,
-                (None, false) => platen_start[0] - platen_start[1],
-            };
-            let (top, bottom) = if by == LoadBy::Elements {
-                (top, bottom)
-            } else {
-                (Vec::new(), Vec::new())
-            };
-            DlsmLoading::Brazilian(Brazilian {
-                speed,
-                end_strain: end,
-                ramp_time: l
-                    .ramp_time
-                    .unwrap_or(DEFAULT_RAMP * end * diameter / (2.0 * speed)),
-                half_angle,
-                diameter,
-                thickness,
-                top,
-                bottom,
-                gap,
-                reaction: [0.0; 2],
-                stop_fraction: stop,
-                tensile_strength: strength,
-                platens,
-                platen_start,
-                pressure,
-            })
-        }
-        LoadingKind::Drop => {
-            let angle = l.ground_angle_degrees.unwrap_or(0.0).to_radians();
-            let normal = Vec3::new(angle.sin(), 0.0, angle.cos());
-            let downslope = Vec3::new(angle.cos(), 0.0, -angle.sin());
-            let (lowest, highest) = extent_along(s, &normal);
-            let ground_point = normal * (lowest - l.drop_height.unwrap_or(0.0));
-            let total: f64 = s.bodies.mass.iter().sum();
-            let centre = s
-                .bodies
-                .pos
-                .iter()
-                .zip(&s.bodies.mass)
-                .map(|(p, m)| p * *m)
-                .sum::<Vec3>()
-                / total;
-            let gravity = if scene.has_effect(EffectKind::Gravity) {
-                Vec3::from(scene.gravity.acceleration)
-            } else {
-                Vec3::zeros()
-            };
-            DlsmLoading::Drop(Drop {
-                end_time: l.end_time.expect("validated"),
-                ground_point,
-                ground_normal: normal,
-                downslope,
-                roll_axis: normal.cross(&downslope),
-                gravity,
-                turns: 0.0,
-                last_spin: 0.0,
-                last_time: 0.0,
-                centre0: centre,
-                size: highest - lowest,
-            })
-        }
-        LoadingKind::None => DlsmLoading::Free {
-            end_time: l.end_time.expect("validated"),
-        },
-    })
-}
-
-/// The sample's element vertices where they are.
-fn vertices(s: &DlsmSample) -> impl Iterator<Item = Vec3> + '_ {
-    s.shapes.iter().enumerate().flat_map(move |(i, shape)| {
-        let (x, r) = (s.bodies.pos[i], s.bodies.orientation[i]);
-        shape.vertices.iter().map(move |v| x + r * v)
-    })
-}
-
-/// The lowest and highest projection of the sample's element vertices on `direction`.
-fn extent_along(s: &DlsmSample, direction: &Vec3) -> (f64, f64) {
-    vertices(s).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-        let h = direction.dot(&p);
-        (lo.min(h), hi.max(h))
-    })
 }
