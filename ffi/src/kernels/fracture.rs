@@ -4,7 +4,7 @@
 
 use super::*;
 use fractum::fracture::break_plane::{self, Trigger};
-use fractum::fracture::cohesion::{self, Demand, Spring};
+use fractum::fracture::cohesion::{self, Demand};
 use fractum::fracture::{
     Criterion, FractureParams, GrainLoad, PendingSplit, bond_split, criteria, grain_average_stress,
     grain_fails, split_grain,
@@ -412,36 +412,6 @@ pub extern "C" fn fractum_kernel_uniforms(
         uniforms(seed, key, counter, slice_mut(out, n)?);
         Ok(())
     })
-}
-
-fn spring_out(s: &Spring) -> FractumSpring {
-    FractumSpring {
-        on_a: s.on_a.into(),
-        on_b: s.on_b.into(),
-        direction: s.direction.into(),
-        f0: s.f0,
-        k: s.k,
-        opening: s.opening,
-        last_gap: s.last_gap.into(),
-        last_force: s.last_force.into(),
-        broken: i32::from(s.broken),
-    }
-}
-
-fn spring_in(s: &FractumSpring) -> Spring {
-    Spring {
-        a: 0,
-        b: 0,
-        on_a: Vec3::from(s.on_a),
-        on_b: Vec3::from(s.on_b),
-        direction: Vec3::from(s.direction),
-        f0: s.f0,
-        k: s.k,
-        opening: s.opening,
-        last_gap: Vec3::from(s.last_gap),
-        last_force: Vec3::from(s.last_force),
-        broken: s.broken != 0,
-    }
 }
 
 /// The cohesive springs of one split (Eq. 39-43), as Fractum makes them once the halves'

@@ -17,7 +17,6 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 
 use fractum::shape::{PolyEllipsoid, Shape};
 use fractum::state::{Body, Vec3};
-use nalgebra::{Matrix3, Quaternion, UnitQuaternion};
 
 use crate::FractumStatus::{self, *};
 
@@ -25,11 +24,13 @@ use crate::FractumStatus::{self, *};
 mod variants;
 
 mod contact;
+mod convert;
 mod fracture;
 mod integrate;
 mod types;
 
 pub use contact::*;
+use convert::*;
 pub use fracture::*;
 pub use integrate::*;
 pub use types::*;
@@ -124,22 +125,6 @@ fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], FractumStatus> {
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
 }
 
-fn quat(q: &[f64; 4]) -> UnitQuaternion<f64> {
-    UnitQuaternion::new_unchecked(Quaternion::new(q[0], q[1], q[2], q[3]))
-}
-
-fn quat_out(q: &UnitQuaternion<f64>) -> [f64; 4] {
-    [q.w, q.i, q.j, q.k]
-}
-
-fn matrix(m: &[f64; 9]) -> Matrix3<f64> {
-    Matrix3::from_row_slice(m)
-}
-
-fn matrix_out(m: &Matrix3<f64>) -> [f64; 9] {
-    std::array::from_fn(|k| m[(k / 3, k % 3)])
-}
-
 /// The library's body from a FractumBody: the inverse mass and moments as the library makes
 /// them (1/m); a poly-ellipsoid's semi-axes checked.
 #[inline(always)]
@@ -174,28 +159,4 @@ fn grain_in(b: &FractumBody) -> Result<Body, FractumStatus> {
     let sized = |x: f64| x.is_finite() && x > 0.0;
     input_if(!(sized(b.radius) && sized(b.mass)))?;
     body_in(b)
-}
-
-fn body_out(b: &Body) -> FractumBody {
-    let (semi, origin, to_body) = match &b.shape {
-        Shape::PolyEllipsoid {
-            pe,
-            origin,
-            to_body,
-        } => (pe.semi, (*origin).into(), quat_out(to_body)),
-        _ => ([b.radius; 6], [0.0; 3], [1.0, 0.0, 0.0, 0.0]),
-    };
-    FractumBody {
-        pos: b.pos.into(),
-        vel: b.vel.into(),
-        omega: b.omega.into(),
-        quat: quat_out(&b.orientation),
-        mass: b.mass,
-        radius: b.radius,
-        semi,
-        origin,
-        to_body,
-        inertia: b.inertia.into(),
-        sphere: i32::from(b.shape.is_sphere()),
-    }
 }

@@ -138,8 +138,8 @@ fn pair_gives_the_library_bits() {
                 let placed_before = mem;
                 let s = fractum_kernel_pair(
                     &law,
-                    &fb(&a),
-                    &fb(&b),
+                    &body_out(&a),
+                    &body_out(&b),
                     &mut mem,
                     dt,
                     i32::from(update),
@@ -151,8 +151,8 @@ fn pair_gives_the_library_bits() {
                 // Placed once per body, as a caller with many pairs does: the same bits,
                 // and the placement is the run's.
                 let (mut pa, mut pb) = (FractumPlacement::default(), FractumPlacement::default());
-                assert_eq!(fractum_kernel_placement(&fb(&a), &mut pa), FRACTUM_OK);
-                assert_eq!(fractum_kernel_placement(&fb(&b), &mut pb), FRACTUM_OK);
+                assert_eq!(fractum_kernel_placement(&body_out(&a), &mut pa), FRACTUM_OK);
+                assert_eq!(fractum_kernel_placement(&body_out(&b), &mut pb), FRACTUM_OK);
                 for (given, run) in [(&pa, &placements.first()), (&pb, &placements.get(1))] {
                     if let Some(run) = run {
                         assert_eq!(bits(&given.origin), vb(&run.origin));
@@ -163,9 +163,9 @@ fn pair_gives_the_library_bits() {
                 let mut placed_mem = placed_before;
                 let s = fractum_kernel_pair_placed(
                     &law,
-                    &fb(&a),
+                    &body_out(&a),
                     &pa,
-                    &fb(&b),
+                    &body_out(&b),
                     &pb,
                     &mut placed_mem,
                     dt,
@@ -219,7 +219,7 @@ fn pair_row_gives_the_pair_kernels_bits_with_and_without_the_skip() {
         let dt = 2e-8;
         for step in 0..40 {
             let update = i32::from(step > 0);
-            let fbs: Vec<FractumBody> = bodies.iter().map(fb).collect();
+            let fbs: Vec<FractumBody> = bodies.iter().map(body_out).collect();
             let places: Vec<FractumPlacement> = fbs
                 .iter()
                 .map(|b| {
@@ -315,10 +315,10 @@ fn pair_row_gives_the_pair_kernels_bits_with_and_without_the_skip() {
                 first += m;
             }
             for (b, t) in bodies.iter_mut().zip(&mut travel) {
-                let before = fb(b);
+                let before = body_out(b);
                 b.pos += b.vel * h;
                 b.orientation = UnitQuaternion::from_scaled_axis(b.omega * h) * b.orientation;
-                assert_eq!(fractum_kernel_travel(&before, &fb(b), t), FRACTUM_OK);
+                assert_eq!(fractum_kernel_travel(&before, &body_out(b), t), FRACTUM_OK);
             }
         }
     }
@@ -338,7 +338,10 @@ fn travel_adds_the_library_step() {
         b.pos += d.vec(1e-5);
         b.orientation = UnitQuaternion::from_scaled_axis(d.vec(0.01)) * a.orientation;
         let mut t = 0.25e-3;
-        assert_eq!(fractum_kernel_travel(&fb(&a), &fb(&b), &mut t), FRACTUM_OK);
+        assert_eq!(
+            fractum_kernel_travel(&body_out(&a), &body_out(&b), &mut t),
+            FRACTUM_OK
+        );
         let step = travel_step(&a.pos, &a.orientation, &b.pos, &b.orientation, b.radius);
         assert_eq!(t.to_bits(), (0.25e-3 + step).to_bits());
         let angle = a.orientation.angle_to(&b.orientation);
@@ -370,12 +373,13 @@ fn convex_and_wall_geometry_give_the_library_bits() {
         let g = convex::contact(&at(0).placed(), &at(1).placed(), &guess);
         touching += usize::from(g.is_some());
         let mut out = FractumGeometry::default();
-        let s = fractum_kernel_convex_contact(&fb(&a), &fb(&b), guess.as_ptr(), &mut out);
+        let s =
+            fractum_kernel_convex_contact(&body_out(&a), &body_out(&b), guess.as_ptr(), &mut out);
         assert_eq!(s, FRACTUM_OK);
         same_geometry(&out, &g);
         let wp = a.pos - u * (d.range(0.3, 1.05) * a.radius);
         let g = convex::wall_contact(&at(0).placed(), &u, &wp);
-        let s = fractum_kernel_wall_geometry(&fb(&a), u.as_ptr(), wp.as_ptr(), &mut out);
+        let s = fractum_kernel_wall_geometry(&body_out(&a), u.as_ptr(), wp.as_ptr(), &mut out);
         assert_eq!(s, FRACTUM_OK);
         same_geometry(&out, &g);
     }
@@ -413,7 +417,7 @@ fn wall_gives_the_library_bits() {
                 let mut out = FractumContact::default();
                 let s = fractum_kernel_wall(
                     &law,
-                    &fb(&a),
+                    &body_out(&a),
                     n.as_ptr(),
                     wp.as_ptr(),
                     wv.as_ptr(),
@@ -453,7 +457,7 @@ fn poly_ellipsoid_body_is_what_the_run_adds() {
             &mut out,
         );
         assert_eq!(s, FRACTUM_OK);
-        assert_eq!(body_bits(&out), body_bits(&fb(&bodies.body(0))));
+        assert_eq!(body_bits(&out), body_bits(&body_out(&bodies.body(0))));
         let mut v = 0.0;
         assert_eq!(fractum_kernel_body_volume(&out, &mut v), FRACTUM_OK);
         assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
@@ -461,7 +465,7 @@ fn poly_ellipsoid_body_is_what_the_run_adds() {
     let mut bodies = Bodies::default();
     bodies.push_sphere(Vec3::zeros(), 0.7e-3, 2500.0, d.quat());
     let mut v = 0.0;
-    let s = fractum_kernel_body_volume(&fb(&bodies.body(0)), &mut v);
+    let s = fractum_kernel_body_volume(&body_out(&bodies.body(0)), &mut v);
     assert_eq!(s, FRACTUM_OK);
     assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
 }

@@ -50,7 +50,7 @@ fn criteria_give_the_library_bits() {
         let torque = d.vec(1e-3);
         let mut stress = [0.0; 9];
         let s = fractum_kernel_average_stress(
-            &fb(&b),
+            &body_out(&b),
             moment.as_ptr(),
             torque.as_ptr(),
             stress.as_mut_ptr(),
@@ -138,7 +138,7 @@ fn check_gives_the_library_bits() {
         let mut out = FractumTrigger::default();
         let s = fractum_kernel_check(
             &law,
-            &fb(&b),
+            &body_out(&b),
             strength,
             rows.as_ptr(),
             torque.as_ptr(),
@@ -202,7 +202,7 @@ fn split_bond_and_springs_give_the_library_bits() {
         let mut out = FractumSplit::default();
         let s = fractum_kernel_split(
             &law,
-            &fb(&b),
+            &body_out(&b),
             force.as_ptr(),
             torque.as_ptr(),
             &ft,
@@ -212,7 +212,10 @@ fn split_bond_and_springs_give_the_library_bits() {
         assert_eq!(s, FRACTUM_OK);
         // Asked first, the shape test agrees with the split.
         let mut can = -1;
-        assert_eq!(fractum_kernel_can_break(&fb(&b), &mut can), FRACTUM_OK);
+        assert_eq!(
+            fractum_kernel_can_break(&body_out(&b), &mut can),
+            FRACTUM_OK
+        );
         assert_eq!(can, i32::from(out.axis >= 0));
         forbidden += usize::from(can == 0);
         let Some(split) = lib else {
@@ -221,8 +224,8 @@ fn split_bond_and_springs_give_the_library_bits() {
         };
         splits += 1;
         assert_eq!(out.axis as usize, split.axis);
-        assert_eq!(body_bits(&out.plus), body_bits(&fb(&split.plus)));
-        assert_eq!(body_bits(&out.minus), body_bits(&fb(&split.minus)));
+        assert_eq!(body_bits(&out.plus), body_bits(&body_out(&split.plus)));
+        assert_eq!(body_bits(&out.minus), body_bits(&body_out(&split.minus)));
         same_pending(&out.pending, &split.pending);
 
         // The bond, under the halves' own forces after the split.
@@ -239,8 +242,8 @@ fn split_bond_and_springs_give_the_library_bits() {
         let mut n_made = -1;
         let s = fractum_kernel_bond(
             &law,
-            &fb(&pa),
-            &fb(&pb),
+            &body_out(&pa),
+            &body_out(&pb),
             loads[0].as_ptr(),
             loads[1].as_ptr(),
             loads[2].as_ptr(),
@@ -275,8 +278,8 @@ fn split_bond_and_springs_give_the_library_bits() {
                     ([9.0; 3], [9.0; 3], [9.0; 3], 9.0, -1);
                 let s = fractum_kernel_spring(
                     &mut fs,
-                    &fb(&a),
-                    &fb(&bb),
+                    &body_out(&a),
+                    &body_out(&bb),
                     f.as_mut_ptr(),
                     ta.as_mut_ptr(),
                     tb.as_mut_ptr(),
@@ -297,8 +300,8 @@ fn split_bond_and_springs_give_the_library_bits() {
                     // A broken spring does nothing more.
                     let s = fractum_kernel_spring(
                         &mut fs,
-                        &fb(&a),
-                        &fb(&bb),
+                        &body_out(&a),
+                        &body_out(&bb),
                         f.as_mut_ptr(),
                         ta.as_mut_ptr(),
                         tb.as_mut_ptr(),

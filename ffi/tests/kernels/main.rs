@@ -8,6 +8,9 @@ mod common;
 // The library's own definitions of the status and the structs, and every export's signature:
 // not every test names each.
 #[allow(dead_code)]
+#[path = "../../src/kernels/convert.rs"]
+mod convert;
+#[allow(dead_code)]
 #[path = "../../src/status.rs"]
 mod status;
 #[allow(dead_code)]
@@ -25,6 +28,7 @@ mod integrate;
 mod refusals;
 
 use abi::*;
+use convert::{body_out, matrix_out, spring_out};
 use fractum::contact::convex::{self, ContactGeometry};
 use fractum::contact::hertz_mindlin::{
     Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
@@ -34,13 +38,13 @@ use fractum::contact::pair::{
     wall_contact,
 };
 use fractum::fracture::break_plane::{self, Trigger};
-use fractum::fracture::cohesion::{self, Demand, Spring};
+use fractum::fracture::cohesion::{self, Demand};
 use fractum::fracture::{
     Criterion, FractureParams, MadeSpring, PendingSplit, bond_split, criteria,
     grain_average_stress, grain_fails, split_grain,
 };
 use fractum::sample::{UNIFORM_COUNTERS, uniforms};
-use fractum::shape::{PolyEllipsoid, Shape};
+use fractum::shape::PolyEllipsoid;
 use fractum::state::{Bodies, Body, Vec3};
 use nalgebra::{Matrix3, UnitQuaternion};
 use status::FractumStatus::*;
@@ -102,36 +106,6 @@ fn random_body(d: &mut Draw, sphere: bool) -> Body {
     b.vel = d.vec(2.0);
     b.omega = d.vec(2000.0);
     b
-}
-
-/// The C form of a library body, field by field.
-fn fb(b: &Body) -> FractumBody {
-    let q = |q: &UnitQuaternion<f64>| [q.w, q.i, q.j, q.k];
-    let mut out = FractumBody {
-        pos: [b.pos.x, b.pos.y, b.pos.z],
-        vel: [b.vel.x, b.vel.y, b.vel.z],
-        omega: [b.omega.x, b.omega.y, b.omega.z],
-        quat: q(&b.orientation),
-        mass: b.mass,
-        radius: b.radius,
-        semi: [b.radius; 6],
-        origin: [0.0; 3],
-        to_body: [1.0, 0.0, 0.0, 0.0],
-        inertia: [b.inertia.x, b.inertia.y, b.inertia.z],
-        sphere: 1,
-    };
-    if let Shape::PolyEllipsoid {
-        pe,
-        origin,
-        to_body,
-    } = &b.shape
-    {
-        out.semi = pe.semi;
-        out.origin = [origin.x, origin.y, origin.z];
-        out.to_body = q(to_body);
-        out.sphere = 0;
-    }
-    out
 }
 
 fn bits(x: &[f64]) -> Vec<u64> {
@@ -325,24 +299,4 @@ fn same_pending(out: &FractumPending, p: &PendingSplit) {
     }
     assert_eq!(out.count as usize, p.count);
     assert_eq!(out.area.to_bits(), p.area.to_bits());
-}
-
-/// A 3x3 matrix in the kernels' row-major doubles.
-fn matrix_out(m: &Matrix3<f64>) -> [f64; 9] {
-    std::array::from_fn(|k| m[(k / 3, k % 3)])
-}
-
-/// The C form of a library spring, field by field.
-fn spring_out(s: &Spring) -> FractumSpring {
-    FractumSpring {
-        on_a: s.on_a.into(),
-        on_b: s.on_b.into(),
-        direction: s.direction.into(),
-        f0: s.f0,
-        k: s.k,
-        opening: s.opening,
-        last_gap: s.last_gap.into(),
-        last_force: s.last_force.into(),
-        broken: i32::from(s.broken),
-    }
 }

@@ -1,0 +1,84 @@
+//! Conversions between the kernels' plain doubles and the library's types: quaternions,
+//! 3x3 matrices and cohesive springs, field by field (the kernel tests use the same ones).
+
+use fractum::fracture::cohesion::Spring;
+use fractum::shape::Shape;
+use fractum::state::{Body, Vec3};
+use nalgebra::{Matrix3, Quaternion, UnitQuaternion};
+
+use super::types::{FractumBody, FractumSpring};
+
+pub(crate) fn quat(q: &[f64; 4]) -> UnitQuaternion<f64> {
+    UnitQuaternion::new_unchecked(Quaternion::new(q[0], q[1], q[2], q[3]))
+}
+
+pub(crate) fn quat_out(q: &UnitQuaternion<f64>) -> [f64; 4] {
+    [q.w, q.i, q.j, q.k]
+}
+
+pub(crate) fn matrix(m: &[f64; 9]) -> Matrix3<f64> {
+    Matrix3::from_row_slice(m)
+}
+
+/// A 3x3 matrix in the kernels' row-major doubles.
+pub(crate) fn matrix_out(m: &Matrix3<f64>) -> [f64; 9] {
+    std::array::from_fn(|k| m[(k / 3, k % 3)])
+}
+
+/// The C form of a library spring.
+pub(crate) fn spring_out(s: &Spring) -> FractumSpring {
+    FractumSpring {
+        on_a: s.on_a.into(),
+        on_b: s.on_b.into(),
+        direction: s.direction.into(),
+        f0: s.f0,
+        k: s.k,
+        opening: s.opening,
+        last_gap: s.last_gap.into(),
+        last_force: s.last_force.into(),
+        broken: i32::from(s.broken),
+    }
+}
+
+/// The library spring of a C spring (its body indices 0: the kernels name the bodies).
+pub(crate) fn spring_in(s: &FractumSpring) -> Spring {
+    Spring {
+        a: 0,
+        b: 0,
+        on_a: Vec3::from(s.on_a),
+        on_b: Vec3::from(s.on_b),
+        direction: Vec3::from(s.direction),
+        f0: s.f0,
+        k: s.k,
+        opening: s.opening,
+        last_gap: Vec3::from(s.last_gap),
+        last_force: Vec3::from(s.last_force),
+        broken: s.broken != 0,
+    }
+}
+
+/// The C form of a library body (a sphere: its radius six times, no octant origin, the
+/// identity shape frame).
+pub(crate) fn body_out(b: &Body) -> FractumBody {
+    let (semi, origin, to_body) = match &b.shape {
+        Shape::PolyEllipsoid {
+            pe,
+            origin,
+            to_body,
+        } => (pe.semi, (*origin).into(), quat_out(to_body)),
+        _ => ([b.radius; 6], [0.0; 3], [1.0, 0.0, 0.0, 0.0]),
+    };
+    FractumBody {
+        pos: b.pos.into(),
+        vel: b.vel.into(),
+        omega: b.omega.into(),
+        quat: quat_out(&b.orientation),
+        mass: b.mass,
+        radius: b.radius,
+        semi,
+        origin,
+        to_body,
+        inertia: b.inertia.into(),
+        sphere: i32::from(b.shape.is_sphere()),
+    }
+}
