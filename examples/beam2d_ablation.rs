@@ -24,14 +24,14 @@
 //! Prints a Markdown table and writes docs/beam2d_ablation.csv.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
-use fractum::Scene;
 use fractum::models::beam2d::scene::FragmentSpec;
 use fractum::models::beam2d::{Beam2dRun, averaged_power_law_by};
 use fractum::probe::fragments::bootstrap_interval;
+
+mod common;
+use common::{on_two_workers, root, run};
 
 const SEEDS: u64 = 5;
 /// Seeds of the shipped scenes at the paper's setting.
@@ -134,25 +134,6 @@ fn fit_switches() -> Vec<FitSwitch> {
     ]
 }
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn run(file: &str, seed: u64, strain: f64, bending: f64, extra: &[&str]) -> Beam2dRun {
-    let mut sets = vec![
-        format!("seed={seed}"),
-        format!("material.beam_strain_threshold={}", strain / 100.0),
-        format!("material.beam_bending_threshold={}", bending.to_radians()),
-    ];
-    sets.extend(extra.iter().map(|s| s.to_string()));
-    let scene = Scene::load(&root().join("scenes").join(file), &sets).expect("scene");
-    let mut r = Beam2dRun::new(scene, 1, &mut |_| {}).expect("run");
-    while !r.finished() {
-        r.advance(5000).expect("step");
-    }
-    r
-}
-
 /// One job: switch, scene, setting, seed.
 #[derive(Clone, Copy)]
 struct Job {
@@ -245,43 +226,16 @@ fn main() {
         }
     }
     // Two workers (two cores), each run on one thread; results by job index.
-    let next = AtomicUsize::new(0);
-    let total = jobs.len();
-    let done: Vec<Vec<(usize, Beam2dRun)>> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..2)
-            .map(|_| {
-                s.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let j = next.fetch_add(1, Ordering::Relaxed);
-                        if j >= total {
-                            return mine;
-                        }
-                        let job = jobs[j];
-                        let (strain, bending) = SETTINGS[job.setting];
-                        let sw = &RUN_SWITCHES[job.switch];
-                        let extra = if job.scene == 0 {
-                            sw.explosion
-                        } else {
-                            sw.impact
-                        };
-                        mine.push((
-                            j,
-                            run(SCENES[job.scene].0, job.seed, strain, bending, extra),
-                        ));
-                        eprint!("\r{} / {total} runs", j + 1);
-                    }
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    let runs: Vec<Beam2dRun> = on_two_workers(&jobs, |job| {
+        let (strain, bending) = SETTINGS[job.setting];
+        let sw = &RUN_SWITCHES[job.switch];
+        let extra = if job.scene == 0 {
+            sw.explosion
+        } else {
+            sw.impact
+        };
+        run(SCENES[job.scene].0, job.seed, strain, bending, extra)
     });
-    eprintln!();
-    let mut runs: Vec<Option<Beam2dRun>> = (0..total).map(|_| None).collect();
-    for (j, r) in done.into_iter().flatten() {
-        runs[j] = Some(r);
-    }
-    let runs: Vec<Beam2dRun> = runs.into_iter().map(Option::unwrap).collect();
     let wall = start.elapsed().as_secs_f64();
 
     let rule = FragmentSpec::default();

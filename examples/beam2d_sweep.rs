@@ -13,15 +13,15 @@
 //! docs/img/beam2d_sweep_histograms.svg (the explosion's histograms, as the paper's Fig. 11).
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use fractum::Run;
-use fractum::Scene;
 use fractum::models::beam2d::{Beam2dRun, averaged_power_law, averaged_power_law_interval};
 use fractum::probe::fragments::mass_histogram;
 use plotters::prelude::*;
+
+mod common;
+use common::{on_two_workers, root, run};
 
 type Plot = Result<(), Box<dyn std::error::Error>>;
 
@@ -40,10 +40,6 @@ const COLOURS: [RGBColor; 7] = [
     RGBColor(200, 120, 0),
 ];
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 /// One setting of one scene: its thresholds, runs and β.
 struct Point {
     stem: &'static str,
@@ -58,20 +54,6 @@ struct Point {
     quiet: usize,
     masses: Vec<f64>,
     unit: f64,
-}
-
-fn run(file: &str, seed: u64, strain: f64, bending: f64) -> Beam2dRun {
-    let sets = [
-        format!("seed={seed}"),
-        format!("material.beam_strain_threshold={}", strain / 100.0),
-        format!("material.beam_bending_threshold={}", bending.to_radians()),
-    ];
-    let scene = Scene::load(&root().join("scenes").join(file), &sets).expect("scene");
-    let mut r = Beam2dRun::new(scene, 1, &mut |_| {}).expect("run");
-    while !r.finished() {
-        r.advance(5000).expect("step");
-    }
-    r
 }
 
 fn main() {
@@ -94,34 +76,10 @@ fn main() {
         })
         .collect();
     // Two workers (two cores), each run on one thread; results by job index.
-    let next = AtomicUsize::new(0);
-    let total = jobs.len();
-    let mut runs: Vec<Option<Beam2dRun>> = (0..total).map(|_| None).collect();
-    let done: Vec<Vec<(usize, Beam2dRun)>> = std::thread::scope(|s| {
-        let handles: Vec<_> = (0..2)
-            .map(|_| {
-                s.spawn(|| {
-                    let mut mine = Vec::new();
-                    loop {
-                        let j = next.fetch_add(1, Ordering::Relaxed);
-                        if j >= total {
-                            return mine;
-                        }
-                        let (sc, k, seed) = jobs[j];
-                        let (e, t) = settings[k];
-                        mine.push((j, run(scenes[sc].0, seed, e, t)));
-                        eprint!("\r{} / {total} runs", j + 1);
-                    }
-                })
-            })
-            .collect();
-        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    let runs: Vec<Beam2dRun> = on_two_workers(&jobs, |&(sc, k, seed)| {
+        let (e, t) = settings[k];
+        run(scenes[sc].0, seed, e, t, &[])
     });
-    eprintln!();
-    for (j, r) in done.into_iter().flatten() {
-        runs[j] = Some(r);
-    }
-    let runs: Vec<Beam2dRun> = runs.into_iter().map(Option::unwrap).collect();
     let wall = start.elapsed().as_secs_f64();
 
     let mut points = Vec::new();
