@@ -404,6 +404,16 @@ enum FractumStatus fractum_copy_orientations(FractumHandle handle, double *buf, 
 // doubles (1 per body). Granular runs only: FRACTUM_ERR_MODEL on other runs.
 enum FractumStatus fractum_copy_radii(FractumHandle handle, double *buf, size_t len);
 
+// Copies each grain's load at the last fracture check into `buf` of `len` doubles (22 per
+// body, FractumGrainLoad's fields in its order: the moment of the contact forces about the
+// grain's centre, 9 doubles row-major (N m); the number of critical contacts; the three
+// largest contact tensile stresses (Pa) and their points (m, 3 x 3), largest first, zeros
+// past the count): what the check compared with the grain's strength, after the force
+// evaluation of the last step. Zeros for grains held by intact springs (not checked), for
+// halves made by that check's splits, and before the first step (and after a restore, until
+// the next step). Granular runs with the `fracture` effect only: FRACTUM_ERR_MODEL otherwise.
+enum FractumStatus fractum_copy_grain_loads(FractumHandle handle, double *buf, size_t len);
+
 // The size (bytes) of the saved state, for sizing the buffer of `fractum_save_state`.
 enum FractumStatus fractum_state_size(FractumHandle handle, size_t *size);
 

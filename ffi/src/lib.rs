@@ -768,6 +768,30 @@ pub extern "C" fn fractum_copy_radii(
     })
 }
 
+/// Copies each grain's load at the last fracture check into `buf` of `len` doubles (22 per
+/// body, FractumGrainLoad's fields in its order: the moment of the contact forces about the
+/// grain's centre, 9 doubles row-major (N m); the number of critical contacts; the three
+/// largest contact tensile stresses (Pa) and their points (m, 3 x 3), largest first, zeros
+/// past the count): what the check compared with the grain's strength, after the force
+/// evaluation of the last step. Zeros for grains held by intact springs (not checked), for
+/// halves made by that check's splits, and before the first step (and after a restore, until
+/// the next step). Granular runs with the `fracture` effect only: FRACTUM_ERR_MODEL otherwise.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_copy_grain_loads(
+    handle: FractumHandle,
+    buf: *mut f64,
+    len: usize,
+) -> FractumStatus {
+    copy_body_values(handle, buf, len, |sim| match sim.run().grain_loads() {
+        Some(loads) => Ok(loads.iter().flat_map(kernels::grain_load_row).collect()),
+        None => Err(not_for_model(
+            "fractum_copy_grain_loads",
+            sim.run(),
+            "only granular runs with the \"fracture\" effect check grain loads",
+        )),
+    })
+}
+
 /// The size (bytes) of the saved state, for sizing the buffer of `fractum_save_state`.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_state_size(handle: FractumHandle, size: *mut usize) -> FractumStatus {

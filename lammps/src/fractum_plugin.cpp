@@ -1,6 +1,7 @@
 /* Registers the Fractum styles with LAMMPS (`plugin load dist/fractumplugin.so`). */
 #include "lammpsplugin.h"
 
+#include "compute_fractum_loads.h"
 #include "fix_fractum_dt.h"
 #include "fix_fractum_fracture.h"
 #include "fix_fractum_nve_polyell.h"
@@ -86,6 +87,11 @@ static Pair *pair_creator(LAMMPS *lmp)
   return new PairFractumGranular(lmp);
 }
 
+static Compute *loads_creator(LAMMPS *lmp, int narg, char **arg)
+{
+  return new ComputeFractumLoads(lmp, narg, arg);
+}
+
 template <class F> static Fix *fix_creator(LAMMPS *lmp, int narg, char **arg)
 {
   return new F(lmp, narg, arg);
@@ -127,5 +133,11 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   plugin.name = "fractum/dt";
   plugin.info = "Fractum's step against the contacts: adapted or checked";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_creator<FixFractumDt>;
+  (*reg)(&plugin, lmp);
+
+  plugin.style = "compute";
+  plugin.name = "fractum/loads";
+  plugin.info = "Fractum grain loads of the fracture check (moment, critical contacts)";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &loads_creator;
   (*reg)(&plugin, lmp);
 }

@@ -310,6 +310,12 @@ pub trait Model: Send + Sized {
     fn radii(&self) -> Option<Vec<f64>> {
         None
     }
+    /// What each grain's contacts loaded it with at the last fracture check (see
+    /// [`crate::fracture::GrainFracture::loads`]), one per body, for models with grain
+    /// fracture.
+    fn grain_loads(&self) -> Option<Vec<crate::fracture::GrainLoad>> {
+        None
+    }
     /// Body–body contacts now, for models that count them.
     fn contacts(&self) -> Option<usize> {
         None
@@ -369,6 +375,8 @@ pub trait Run: Send {
     fn orientations(&self) -> Vec<[f64; 4]>;
     /// Body radii (m), for models of round grains (see [`Model::radii`]).
     fn radii(&self) -> Option<Vec<f64>>;
+    /// The grains' loads at the last fracture check (see [`Model::grain_loads`]).
+    fn grain_loads(&self) -> Option<Vec<crate::fracture::GrainLoad>>;
     /// Body–body contacts now, for models that count them.
     fn contacts(&self) -> Option<usize>;
     /// Kinetic energy (J) now.
@@ -910,6 +918,9 @@ impl<M: Model> Run for Runner<M> {
     }
     fn radii(&self) -> Option<Vec<f64>> {
         self.model.radii()
+    }
+    fn grain_loads(&self) -> Option<Vec<crate::fracture::GrainLoad>> {
+        self.model.grain_loads()
     }
     fn contacts(&self) -> Option<usize> {
         self.model.contacts()

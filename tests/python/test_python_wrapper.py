@@ -164,8 +164,10 @@ def test_dlsm_and_beam2d_run_to_their_end_through_the_generic_calls(scene, overr
     with fractum.Simulation(os.path.join(ROOT, "scenes", scene), overrides=overrides) as sim:
         assert sim.model == model
         assert sim.bodies() == bodies and sim.counts()[0] == bodies
-        # The SHPB calls and radii do not apply: ModelError, a FractumError naming the model.
-        for call in (lambda: sim.set_face_speeds(3.0, 0.0), sim.face_forces, sim.face_stresses, sim.radii):
+        # The SHPB calls, radii and grain loads do not apply: ModelError, a FractumError naming
+        # the model.
+        for call in (lambda: sim.set_face_speeds(3.0, 0.0), sim.face_forces, sim.face_stresses,
+                     sim.radii, sim.grain_loads):
             with pytest.raises(fractum.ModelError) as e:
                 call()
             assert e.value.status == "FRACTUM_ERR_MODEL" and model in e.value.message

@@ -343,6 +343,15 @@ class Simulation:
         """Radii (m) as an (n,) array (granular only, else ModelError)."""
         return self._array("fractum_copy_radii", 1)
 
+    def grain_loads(self):
+        """Each grain's load at the last fracture check, as an (n, 22) array: columns 0-8 the
+        moment of its contact forces about its centre (N m, row-major), 9 the number of
+        critical contacts, 10-12 the three largest contact tensile stresses (Pa) and 13-21
+        their points (m), largest first, zeros past the count. Zeros for grains held by
+        intact springs, for halves made at that check and before the first step. Granular
+        runs with the "fracture" effect only, else ModelError."""
+        return self._array("fractum_copy_grain_loads", 22)
+
     def save_state(self):
         """The whole state as bytes."""
         size = ctypes.c_size_t()

@@ -6,7 +6,9 @@ use fractum::shape::Shape;
 use fractum::state::{Body, Vec3};
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion};
 
-use super::types::{FractumBody, FractumSpring};
+use fractum::fracture::GrainLoad;
+
+use super::types::{FractumBody, FractumGrainLoad, FractumSpring};
 
 pub(crate) fn quat(q: &[f64; 4]) -> UnitQuaternion<f64> {
     UnitQuaternion::new_unchecked(Quaternion::new(q[0], q[1], q[2], q[3]))
@@ -23,6 +25,30 @@ pub(crate) fn matrix(m: &[f64; 9]) -> Matrix3<f64> {
 /// A 3x3 matrix in the kernels' row-major doubles.
 pub(crate) fn matrix_out(m: &Matrix3<f64>) -> [f64; 9] {
     std::array::from_fn(|k| m[(k / 3, k % 3)])
+}
+
+/// The C form of a grain load, field by field.
+pub(crate) fn grain_load_out(g: &GrainLoad) -> FractumGrainLoad {
+    FractumGrainLoad {
+        moment: matrix_out(&g.moment),
+        count: g.count as i64,
+        stress: g.stress,
+        point: g.point.map(Into::into),
+    }
+}
+
+/// A grain load as the 22 doubles of `fractum_copy_grain_loads`: FractumGrainLoad's fields
+/// in its order, the count as a double.
+pub(crate) fn grain_load_row(g: &GrainLoad) -> [f64; 22] {
+    let c = grain_load_out(g);
+    let mut row = [0.0; 22];
+    row[..9].copy_from_slice(&c.moment);
+    row[9] = c.count as f64;
+    row[10..13].copy_from_slice(&c.stress);
+    for (k, p) in c.point.iter().enumerate() {
+        row[13 + 3 * k..16 + 3 * k].copy_from_slice(p);
+    }
+    row
 }
 
 /// The C form of a library spring.

@@ -287,10 +287,7 @@ pub extern "C" fn fractum_kernel_grain_load_add(
             poisson,
             threshold,
         );
-        l.moment = matrix_out(&g.moment);
-        l.count = g.count as i64;
-        l.stress = g.stress;
-        l.point = g.point.map(Into::into);
+        *l = grain_load_out(&g);
         Ok(())
     })
 }

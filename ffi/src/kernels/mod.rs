@@ -30,6 +30,7 @@ mod integrate;
 mod types;
 
 pub use contact::*;
+pub(crate) use convert::grain_load_row;
 use convert::*;
 pub use fracture::*;
 pub use integrate::*;

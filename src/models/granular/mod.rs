@@ -876,6 +876,13 @@ impl Model for Granular {
         Some(self.state.bodies.radius.clone())
     }
 
+    fn grain_loads(&self) -> Option<Vec<crate::fracture::GrainLoad>> {
+        let f = self.state.fracture.as_ref()?;
+        let mut loads = f.loads().to_vec();
+        loads.resize(self.state.bodies.len(), Default::default());
+        Some(loads)
+    }
+
     fn contacts(&self) -> Option<usize> {
         Some(self.pipeline.contacts())
     }
