@@ -3,8 +3,11 @@
 
 use std::path::Path;
 
+use nalgebra::{Quaternion, UnitQuaternion};
+
 use crate::scene::read_regular;
-use crate::state::Vec3;
+use crate::shape::{self, PolyEllipsoid, Shape};
+use crate::state::{Body, Vec3};
 
 /// Spheres read from a file, with the container bounds when the file gives them.
 #[derive(Debug, Default)]
@@ -13,6 +16,9 @@ pub struct Packing {
     pub bounds: Option<(Vec3, Vec3)>,
     /// Initial velocities by sphere index, when the file gives them.
     pub velocities: Vec<(usize, Vec3)>,
+    /// The bodies as the Fractum LAMMPS plugin held them, when the file carries its sections
+    /// (see [`read_lammps_data`]): shapes, orientations, masses, inertia, velocities.
+    pub bodies: Option<Vec<Body>>,
 }
 
 fn read(path: &Path) -> Result<String, String> {
@@ -73,18 +79,37 @@ pub fn read_text_packing(path: &Path) -> Result<Packing, String> {
     Ok(p)
 }
 
+/// The sections of a data file that the Fractum LAMMPS plugin's `fix property/atom` arrays
+/// read and write, by the names `fractum export lammps --plugin` gives them and the names
+/// LAMMPS's `write_data` gives them (the fixes' IDs in that export's script); seven values a
+/// row each: the shape (sphere flag, semi-axes a+ a- b+ b- c+ c-, m), the orientation (body to
+/// world quaternion w x y z, the octant origin in the body frame, m) and the inertia (principal
+/// moments, kg m², the shape-to-body quaternion w x y z).
+const PLUGIN_SECTIONS: [[&str; 2]; 3] = [
+    ["FractumShape", "frshape"],
+    ["FractumOrient", "frorient"],
+    ["FractumInertia", "frinertia"],
+];
+
 /// Reads a LAMMPS data file with `atom_style sphere` atoms:
 /// `atom-ID atom-type diameter density x y z [ix iy iz]`, and the `Velocities` section
 /// (`atom-ID vx vy vz wx wy wz`) when present. Atoms are ordered by ID; the box comes from the
-/// `xlo xhi` / `ylo yhi` / `zlo zhi` header lines.
+/// `xlo xhi` / `ylo yhi` / `zlo zhi` header lines. A file that also holds the Fractum plugin's
+/// shape, orientation and inertia sections (written by `fractum export lammps --plugin` or by
+/// LAMMPS's `write_data` in a plugin run, halves of split grains among them) gives its bodies
+/// as the plugin held them ([`Packing::bodies`]).
 pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
     let text = read(path)?;
     let lines: Vec<&str> = text.lines().collect();
     let mut natoms = None;
     let mut lo = [None; 3];
     let mut hi = [None; 3];
-    let mut atoms: Vec<(u64, Vec3, f64)> = Vec::new();
-    let mut vels: Vec<(u64, Vec3)> = Vec::new();
+    // ID, centre, radius, density.
+    let mut atoms: Vec<(u64, Vec3, f64, f64)> = Vec::new();
+    // ID, velocity, angular velocity when given.
+    let mut vels: Vec<(u64, Vec3, Option<Vec3>)> = Vec::new();
+    // The plugin's sections: ID and seven values a row.
+    let mut plugin: [Vec<(u64, [f64; 7])>; 3] = Default::default();
     let strip = |l: &str| l.split('#').next().unwrap_or("").trim().to_string();
     let mut k = 1; // the first line is a title
     while k < lines.len() {
@@ -104,8 +129,11 @@ pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
                 hi[a] = Some(number(toks[1], k + 1, h)?);
             }
         }
-        let section = toks.first().copied().unwrap_or("");
-        if section == "Atoms" || section == "Velocities" {
+        let section = if toks.len() == 1 { toks[0] } else { "" };
+        let extra = PLUGIN_SECTIONS
+            .iter()
+            .position(|names| names.contains(&section));
+        if section == "Atoms" || section == "Velocities" || extra.is_some() {
             let n = natoms
                 .ok_or_else(|| format!("line {}: `{section}` before the `atoms` count", k + 1))?;
             let mut read_rows = 0;
@@ -121,7 +149,19 @@ pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
                 let id = t[0]
                     .parse::<u64>()
                     .map_err(|_| format!("line {ln}: atom ID `{}` is not an integer", t[0]))?;
-                if section == "Atoms" {
+                if let Some(s) = extra {
+                    if t.len() != 8 {
+                        return Err(format!(
+                            "line {ln}: expected the atom ID and 7 values in the {section} section, found {} values",
+                            t.len()
+                        ));
+                    }
+                    let mut v = [0.0; 7];
+                    for (c, tok) in t[1..].iter().enumerate() {
+                        v[c] = number(tok, ln, section)?;
+                    }
+                    plugin[s].push((id, v));
+                } else if section == "Atoms" {
                     if t.len() < 7 {
                         return Err(format!(
                             "line {ln}: expected `atom-ID atom-type diameter density x y z` (atom_style sphere), found {} values",
@@ -139,7 +179,7 @@ pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
                         number(t[5], ln, "y")?,
                         number(t[6], ln, "z")?,
                     );
-                    atoms.push((id, x, 0.5 * d));
+                    atoms.push((id, x, 0.5 * d, number(t[3], ln, "density")?));
                 } else {
                     if t.len() < 4 {
                         return Err(format!("line {ln}: expected `atom-ID vx vy vz wx wy wz`"));
@@ -149,7 +189,16 @@ pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
                         number(t[2], ln, "vy")?,
                         number(t[3], ln, "vz")?,
                     );
-                    vels.push((id, v));
+                    let w = if t.len() >= 7 {
+                        Some(Vec3::new(
+                            number(t[4], ln, "wx")?,
+                            number(t[5], ln, "wy")?,
+                            number(t[6], ln, "wz")?,
+                        ))
+                    } else {
+                        None
+                    };
+                    vels.push((id, v, w));
                 }
                 read_rows += 1;
             }
@@ -176,12 +225,120 @@ pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
     {
         p.bounds = Some((Vec3::new(xl, yl, zl), Vec3::new(xh, yh, zh)));
     }
-    for (id, v) in vels {
+    let mut omegas = Vec::new();
+    for (id, v, w) in vels {
         if let Ok(i) = ids.binary_search(&id) {
             p.velocities.push((i, v));
+            omegas.extend(w.map(|w| (i, w)));
         }
     }
+    let present = plugin.iter().filter(|rows| !rows.is_empty()).count();
+    if present == 0 {
+        return Ok(p);
+    }
+    if present < 3 {
+        let missing: Vec<&str> = PLUGIN_SECTIONS
+            .iter()
+            .zip(&plugin)
+            .filter(|(_, rows)| rows.is_empty())
+            .map(|(names, _)| names[0])
+            .collect();
+        return Err(format!(
+            "has some of the Fractum plugin's sections but not {} (all three give the grains' shapes)",
+            missing.join(" and ")
+        ));
+    }
+    let mut rows = [
+        vec![None; ids.len()],
+        vec![None; ids.len()],
+        vec![None; ids.len()],
+    ];
+    for (s, section) in plugin.iter().enumerate() {
+        for (id, v) in section {
+            let i = ids.binary_search(id).map_err(|_| {
+                format!(
+                    "the {} section names atom {id}, which Atoms does not have",
+                    PLUGIN_SECTIONS[s][0]
+                )
+            })?;
+            rows[s][i] = Some(*v);
+        }
+    }
+    let mut bodies = Vec::with_capacity(ids.len());
+    for (i, &(id, pos, radius, density)) in atoms.iter().enumerate() {
+        let [Some(shape), Some(orient), Some(inertia)] = [rows[0][i], rows[1][i], rows[2][i]]
+        else {
+            return Err(format!(
+                "atom {id} lacks a row in one of the Fractum plugin's sections"
+            ));
+        };
+        bodies.push(
+            plugin_body(pos, radius, density, &shape, &orient, &inertia)
+                .map_err(|m| format!("atom {id}: {m}"))?,
+        );
+    }
+    for &(i, v) in &p.velocities {
+        bodies[i].vel = v;
+    }
+    for (i, w) in omegas {
+        bodies[i].omega = w;
+    }
+    p.bodies = Some(bodies);
     Ok(p)
+}
+
+/// One atom of the Fractum plugin as a body: its mass as LAMMPS reads it (the density column
+/// times the bounding sphere's volume), its shape, orientation and inertia from the plugin's
+/// rows.
+fn plugin_body(
+    pos: Vec3,
+    radius: f64,
+    density: f64,
+    shape: &[f64; 7],
+    orient: &[f64; 7],
+    inertia: &[f64; 7],
+) -> Result<Body, String> {
+    let positive = |v: f64| v.is_finite() && v > 0.0;
+    if !positive(density) {
+        return Err(format!(
+            "density {density} is outside the allowed range (0, ∞) kg/m³"
+        ));
+    }
+    let quat = |q: &[f64]| {
+        let q = Quaternion::new(q[0], q[1], q[2], q[3]);
+        if (q.norm() - 1.0).abs() > 1e-9 {
+            return Err(format!(
+                "a quaternion of norm {} (a unit quaternion is needed)",
+                q.norm()
+            ));
+        }
+        Ok(UnitQuaternion::new_unchecked(q))
+    };
+    let moments = Vec3::new(inertia[0], inertia[1], inertia[2]);
+    if !moments.iter().all(|&m| positive(m)) {
+        return Err(format!(
+            "inertia {moments:?} is outside the allowed range (0, ∞) kg m²"
+        ));
+    }
+    let shape = if shape[0] != 0.0 {
+        Shape::Sphere
+    } else {
+        let mut semi = [0.0; 6];
+        semi.copy_from_slice(&shape[1..]);
+        Shape::PolyEllipsoid {
+            pe: PolyEllipsoid::new(semi)?,
+            origin: Vec3::new(orient[4], orient[5], orient[6]),
+            to_body: quat(&inertia[3..])?,
+        }
+    };
+    Ok(Body::rigid(
+        pos,
+        quat(&orient[..4])?,
+        radius,
+        shape::sphere_mass(radius, density),
+        moments,
+        shape,
+    ))
 }
 
 /// One grain of an ellipsoid assembly: semi-axes a, b, c (m), centre (m), and the world

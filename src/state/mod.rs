@@ -334,6 +334,32 @@ impl Body {
         }
     }
 
+    /// A body at rest from the parts a host keeps for it (the Fractum LAMMPS plugin's per-atom
+    /// arrays, the kernels' FractumBody): centre `pos` (m), orientation (body to world; the
+    /// body frame is the principal frame of inertia), bounding radius (m), mass (kg), the
+    /// principal moments of inertia (kg·m²) and the shape.
+    pub fn rigid(
+        pos: Vec3,
+        orientation: UnitQuaternion<f64>,
+        radius: f64,
+        mass: f64,
+        inertia: Vec3,
+        shape: Shape,
+    ) -> Body {
+        Body {
+            pos,
+            vel: Vec3::zeros(),
+            omega: Vec3::zeros(),
+            orientation,
+            radius,
+            mass,
+            inv_mass: 1.0 / mass,
+            inertia,
+            inv_inertia: inertia.map(|m| 1.0 / m),
+            shape,
+        }
+    }
+
     /// Volume (m³).
     pub fn volume(&self) -> f64 {
         self.shape.volume(self.radius)

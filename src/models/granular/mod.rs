@@ -168,9 +168,18 @@ pub const ADAPT_PER_SAFETY: f64 = 3.0;
 /// The force pipeline of exactly the effects a granular scene names. `friction` overrides
 /// the material's coefficient (sample preparation compacts with its own).
 pub fn pipeline(scene: &Scene, cfg: &GranularScene) -> Pipeline {
-    let contact = scene
-        .has_effect(EffectKind::Contact)
-        .then(|| contact_params(scene, cfg, None));
+    pipeline_for(scene, cfg, false)
+}
+
+/// [`pipeline`] for bodies that hold non-spherical shapes when `shaped` (a sample read from a
+/// data file of the Fractum LAMMPS plugin may, whatever the scene's own keys say): their
+/// contacts take the shapes' path.
+fn pipeline_for(scene: &Scene, cfg: &GranularScene, shaped: bool) -> Pipeline {
+    let contact = scene.has_effect(EffectKind::Contact).then(|| {
+        let mut params = contact_params(scene, cfg, None);
+        params.shapes |= shaped;
+        params
+    });
     let gravity = scene
         .has_effect(EffectKind::Gravity)
         .then(|| Vec3::from(scene.gravity.acceleration));
@@ -293,7 +302,11 @@ impl Granular {
     fn with_state(scene: &Scene, cfg: GranularScene, state: GranularState) -> Granular {
         let fracture = scene.has_effect(EffectKind::Fracture);
         Granular {
-            pipeline: pipeline(scene, &cfg),
+            pipeline: pipeline_for(
+                scene,
+                &cfg,
+                state.bodies.shape.iter().any(|s| !s.is_sphere()),
+            ),
             integrator: VelocityVerlet {
                 track_orientation: fracture || state.bodies.shape.iter().any(|s| !s.is_sphere()),
             },

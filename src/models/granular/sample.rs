@@ -81,6 +81,8 @@ pub fn build(
     let compacted =
         spec.kind == SampleKind::Random && super::scene::packing(spec) == Packing::Compaction;
     let mut compaction_steps = 0;
+    // A data file of the Fractum LAMMPS plugin gives its bodies with their own orientations.
+    let mut plugin_bodies = false;
     let (mut bodies, mut walls) = match spec.kind {
         SampleKind::Random if compacted => {
             let (b, w, steps) = compacted_sample(scene, cfg, &mut orient, progress)?;
@@ -113,12 +115,20 @@ pub fn build(
             }
             .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
             let mut b = Bodies::default();
-            for (p, r) in packing.spheres {
-                b.push_sphere(p, r, rho, UnitQuaternion::identity());
-            }
-            for (i, v) in packing.velocities {
-                if i < b.len() {
-                    b.vel[i] = v;
+            if let Some(held) = packing.bodies {
+                // A Fractum plugin state: the bodies as the plugin held them.
+                plugin_bodies = true;
+                for body in held {
+                    b.push(body);
+                }
+            } else {
+                for (p, r) in packing.spheres {
+                    b.push_sphere(p, r, rho, UnitQuaternion::identity());
+                }
+                for (i, v) in packing.velocities {
+                    if i < b.len() {
+                        b.vel[i] = v;
+                    }
                 }
             }
             // The file's own box first (docs/scenes.md): it is exact data, `box` a fallback.
@@ -137,6 +147,7 @@ pub fn build(
         Orientations::Aligned
     };
     let own_orientations = compacted
+        || plugin_bodies
         || matches!(
             spec.kind,
             SampleKind::Single | SampleKind::EllipsoidAssembly
