@@ -60,6 +60,7 @@ FRACTUM_LIB="${CARGO_TARGET_DIR:-$PWD/target}/release/libfractum.so" \
 for release in $OLDER_LAMMPS; do
     step "LAMMPS plugin tests (the releases subset) against LAMMPS $release"
     FRACTUM_PLUGIN="dist/lammps-$release/fractumplugin.so" \
+        FRACTUM_LIB="${CARGO_TARGET_DIR:-$PWD/target}/release/libfractum.so" \
         ".venv-lammps-$release/bin/python" -m pytest -q -m releases tests/python/test_lammps_plugin.py
 done
 
