@@ -7,13 +7,13 @@ use super::scene::{Beam2dScene, EFFECTS};
 use crate::bond::beam2d::Beams;
 use crate::error::Result;
 use crate::explain::write_pipeline;
-use crate::sample::lattice2d::Outline;
+use crate::sample::lattice2d::LatticeShape;
 use crate::scene::{IntegratorKind, Scene};
 use crate::state::polygons::Polygons;
 
 /// `fractum explain` for a beam2d scene: what it builds, without building the lattice.
 pub fn explain(scene: &Scene) -> Result<String> {
-    let cfg: Beam2dScene = scene.section()?;
+    let cfg = Beam2dScene::read(scene)?;
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -25,10 +25,9 @@ pub fn explain(scene: &Scene) -> Result<String> {
         "model: beam2d, rigid Voronoi polygons with overlap repulsion and breakable beams (2D, plane stress)"
     );
     let p = &cfg.sample;
-    let spacing = p.spacing.unwrap_or_default();
-    let outline = match p.outline {
-        Some(Outline::Rectangle) => {
-            let c = p.cells.unwrap_or_default();
+    let spacing = p.spacing;
+    let outline = match p.shape {
+        LatticeShape::Rectangle(c) => {
             format!(
                 "a {} x {} m rectangle ({} x {} squares)",
                 c[0] as f64 * spacing,
@@ -37,18 +36,16 @@ pub fn explain(scene: &Scene) -> Result<String> {
                 c[1]
             )
         }
-        Some(Outline::Disc) => format!(
+        LatticeShape::Disc(d) => format!(
             "a disc of diameter {} m (about {:.0} polygons)",
-            p.diameter.unwrap_or_default(),
-            std::f64::consts::PI / 4.0 * (p.diameter.unwrap_or_default() / spacing).powi(2)
+            d,
+            std::f64::consts::PI / 4.0 * (d / spacing).powi(2)
         ),
-        None => String::new(),
     };
     let _ = writeln!(
         s,
         "sample: vectorizable random lattice, spacing {spacing:e} m, disorder {:e} m, cut to {outline}, thickness {:e} m",
-        p.disorder.unwrap_or_default(),
-        p.thickness.unwrap_or(1.0)
+        p.disorder, p.thickness
     );
     let pipeline =
         PolygonPipeline::build(scene, &cfg, &Polygons::default(), &Beams::default(), 0.0);

@@ -9,9 +9,10 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::{Beam2dScene, Explosive, LoadingKind, LoadingSpec, Projectile};
+use super::scene::{Beam2dScene, DrivenSpec, Explosive, LoadingSpec, Projectile, QuietEnd};
 use crate::error::Result;
 use crate::probe::Series;
+use crate::sample::lattice2d::LatticeShape;
 use crate::sample::lattice2d::{PolygonSample, SIDE_BOTTOM, SIDE_LEFT, SIDE_RIGHT, SIDE_TOP};
 use crate::scene::Scene;
 use crate::shape::polygon::Vec2;
@@ -165,12 +166,11 @@ impl Beam2dLoading {
         cfg: &Beam2dScene,
         sample: &mut PolygonSample,
     ) -> Result<Beam2dLoading> {
-        let l = &cfg.loading;
-        let thickness = cfg.sample.thickness.unwrap_or(1.0);
-        Ok(match l.kind {
-            LoadingKind::ElasticModuli | LoadingKind::ConfinedCompression => {
-                let confined = l.kind == LoadingKind::ConfinedCompression;
-                let driven = driven(scene, cfg, sample, confined, thickness)?;
+        let thickness = cfg.sample.thickness;
+        Ok(match cfg.loading {
+            LoadingSpec::ElasticModuli(l) | LoadingSpec::ConfinedCompression(l) => {
+                let confined = matches!(cfg.loading, LoadingSpec::ConfinedCompression(_));
+                let driven = driven(scene, &l, sample, confined, thickness)?;
                 let p = &mut sample.polygons;
                 for (k, _) in driven.layers() {
                     p.inv_m[k][1] = 0.0;
@@ -185,8 +185,16 @@ impl Beam2dLoading {
                     Beam2dLoading::ElasticModuli(driven)
                 }
             }
-            LoadingKind::Explosion => explode(scene, cfg, sample)?,
-            LoadingKind::Projectile => {
+            LoadingSpec::Explosion {
+                energy,
+                explosive,
+                end,
+            } => explode(scene, cfg, sample, energy, explosive, end)?,
+            LoadingSpec::Projectile {
+                speed,
+                projectile,
+                end,
+            } => {
                 let p = &sample.polygons;
                 let middle = 0.5 * sample.info.size[0];
                 let polygon = (0..p.len())
@@ -197,14 +205,13 @@ impl Beam2dLoading {
                             .total_cmp(&(p.q[b][0] - middle).abs())
                     })
                     .ok_or_else(|| scene.key_error("sample", "has no polygon on its lower side"))?;
-                let speed = l.speed.expect("validated");
                 sample.polygons.v[polygon] = [0.0, speed, 0.0];
                 Beam2dLoading::Projectile {
                     speed,
-                    quiet_steps: l.quiet_steps.unwrap_or(300),
-                    end_time: l.end_time.expect("validated"),
+                    quiet_steps: end.quiet_steps,
+                    end_time: end.end_time,
                     polygon,
-                    free: l.projectile == Some(Projectile::Free),
+                    free: projectile == Projectile::Free,
                 }
             }
         })
@@ -275,39 +282,40 @@ impl Beam2dLoading {
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table (the
     /// lattice, which sets the layers and the polygons kicked, is not built to explain it).
     pub fn describe(l: &LoadingSpec) -> String {
-        match l.kind {
-            LoadingKind::ElasticModuli => format!(
+        match *l {
+            LoadingSpec::ElasticModuli(d) => format!(
                 "elastic moduli: top and bottom layers pulled apart at strain rate {} 1/s (ramp {} s) to strain {}, then compressed from the start to -{}",
-                l.strain_rate.unwrap_or_default(),
-                l.ramp_time.unwrap_or(0.0),
-                l.end_strain.unwrap_or_default(),
-                l.end_strain.unwrap_or_default()
+                d.strain_rate, d.ramp_time, d.end_strain, d.end_strain
             ),
-            LoadingKind::ConfinedCompression => format!(
+            LoadingSpec::ConfinedCompression(d) => format!(
                 "confined compression at strain rate {} 1/s (ramp {} s) to strain -{}; layers' x and rotation fixed",
-                l.strain_rate.unwrap_or_default(),
-                l.ramp_time.unwrap_or(0.0),
-                l.end_strain.unwrap_or_default()
+                d.strain_rate, d.ramp_time, d.end_strain
             ),
-            LoadingKind::Explosion => format!(
-                "explosion of the centre polygon, energy {:e} J{}; stops after {} steps without a break or at {:e} s",
-                l.energy.unwrap_or_default(),
-                match l.explosive.unwrap_or_default() {
+            LoadingSpec::Explosion {
+                energy,
+                explosive,
+                end,
+            } => format!(
+                "explosion of the centre polygon, energy {energy:e} J{}; stops after {} steps without a break or at {:e} s",
+                match explosive {
                     Explosive::Spent => "",
                     Explosive::Kept => " (the polygon stays, at rest and bonded)",
                 },
-                l.quiet_steps.unwrap_or(300),
-                l.end_time.unwrap_or_default()
+                end.quiet_steps,
+                end.end_time
             ),
-            LoadingKind::Projectile => format!(
-                "projectile: the polygon at the lower middle{} starts at {} m/s upwards; stops after {} steps without a break or at {:e} s",
-                match l.projectile.unwrap_or_default() {
+            LoadingSpec::Projectile {
+                speed,
+                projectile,
+                end,
+            } => format!(
+                "projectile: the polygon at the lower middle{} starts at {speed} m/s upwards; stops after {} steps without a break or at {:e} s",
+                match projectile {
                     Projectile::Bonded => "",
                     Projectile::Free => ", its beams cut,",
                 },
-                l.speed.unwrap_or_default(),
-                l.quiet_steps.unwrap_or(300),
-                l.end_time.unwrap_or_default()
+                end.quiet_steps,
+                end.end_time
             ),
         }
     }
@@ -368,12 +376,11 @@ impl Beam2dLoading {
 /// free sides' polygons for the lateral strain.
 fn driven(
     scene: &Scene,
-    cfg: &Beam2dScene,
+    l: &DrivenSpec,
     sample: &PolygonSample,
     confined: bool,
     thickness: f64,
 ) -> Result<Driven> {
-    let l = &cfg.loading;
     let with = |bit: u8| -> Vec<u32> {
         (0..sample.polygons.len())
             .filter(|&k| sample.outline[k] & bit != 0)
@@ -404,9 +411,9 @@ fn driven(
         .map(|&k| [p.q[k as usize][0], p.q[k as usize][1]])
         .collect();
     Ok(Driven {
-        speed: 0.5 * l.strain_rate.expect("validated") * length0,
-        ramp_time: l.ramp_time.unwrap_or(0.0),
-        end_strain: l.end_strain.expect("validated"),
+        speed: 0.5 * l.strain_rate * length0,
+        ramp_time: l.ramp_time,
+        end_strain: l.end_strain,
         confined,
         bottom,
         top,
@@ -427,9 +434,14 @@ fn spent_default() -> bool {
 }
 
 /// The explosion's initial velocities; removes the explosive polygon (unless kept).
-fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Result<Beam2dLoading> {
-    let l = &cfg.loading;
-    let energy = l.energy.expect("validated");
+fn explode(
+    scene: &Scene,
+    cfg: &Beam2dScene,
+    sample: &mut PolygonSample,
+    energy: f64,
+    explosive: Explosive,
+    end: QuietEnd,
+) -> Result<Beam2dLoading> {
     let p = &sample.polygons;
     let centre = match sample.info.outline.as_str() {
         "disc" => Vec2::zeros(),
@@ -445,9 +457,9 @@ fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Resu
     if sample.outline[k0] != 0 {
         // Discs are held to a size that cannot get here (scene validation); a rectangle of
         // fewer than 12 squares each way can.
-        let (key, size) = match (&cfg.sample.cells, cfg.sample.diameter) {
-            (Some(c), _) if sample.info.outline != "disc" => ("sample.cells", format!("{c:?}")),
-            (_, d) => ("sample.diameter", format!("{}", d.unwrap_or(0.0))),
+        let (key, size) = match cfg.sample.shape {
+            LatticeShape::Rectangle(c) => ("sample.cells", format!("{c:?}")),
+            LatticeShape::Disc(d) => ("sample.diameter", format!("{d}")),
         };
         return Err(scene.key_error(
             key,
@@ -490,14 +502,14 @@ fn explode(scene: &Scene, cfg: &Beam2dScene, sample: &mut PolygonSample) -> Resu
     for (k, v) in &velocity {
         sample.polygons.v[*k] = [v.x * scale, v.y * scale, 0.0];
     }
-    let spent = l.explosive.unwrap_or_default() == Explosive::Spent;
+    let spent = explosive == Explosive::Spent;
     if spent {
         sample.remove(k0);
     }
     Ok(Beam2dLoading::Explosion {
         energy,
-        quiet_steps: l.quiet_steps.unwrap_or(300),
-        end_time: l.end_time.expect("validated"),
+        quiet_steps: end.quiet_steps,
+        end_time: end.end_time,
         explosive_mass,
         explosive_centre,
         kicked: velocity.len(),

@@ -36,8 +36,7 @@ use crate::probe::fragments::{
 };
 use crate::run::{Built, Clock, Model, RunInfo, Runner};
 use crate::sample::lattice2d::{
-    LatticeInfo, LatticeShape, LatticeSpec, Outline, PolygonSample, STREAM_LATTICE,
-    vectorizable_random_lattice,
+    LatticeInfo, LatticeSpec, PolygonSample, STREAM_LATTICE, vectorizable_random_lattice,
 };
 use crate::scene::{EffectKind, IntegratorKind, Scene};
 use crate::shape::polygon::Vec2;
@@ -126,15 +125,11 @@ fn fragments(polygons: &Polygons, b: &Beams) -> (Vec<u32>, usize) {
 /// The lattice a beam2d scene describes.
 fn lattice(scene: &Scene, cfg: &Beam2dScene) -> Result<PolygonSample> {
     let p = &cfg.sample;
-    let shape = match p.outline.expect("validated") {
-        Outline::Rectangle => LatticeShape::Rectangle(p.cells.expect("validated")),
-        Outline::Disc => LatticeShape::Disc(p.diameter.expect("validated")),
-    };
     let spec = LatticeSpec {
-        spacing: p.spacing.expect("validated"),
-        disorder: p.disorder.expect("validated"),
-        shape,
-        thickness: p.thickness.unwrap_or(1.0),
+        spacing: p.spacing,
+        disorder: p.disorder,
+        shape: p.shape,
+        thickness: p.thickness,
         density: cfg.material.density,
     };
     let mut rng = crate::sample::stream(scene.seed, STREAM_LATTICE);
@@ -149,17 +144,13 @@ fn polygon_pipeline(scene: &Scene, cfg: &Beam2dScene, st: &Beam2dState) -> Polyg
 
 /// The beams over the sample's shared sides (only with the `beams` effect); none to a free
 /// projectile.
-fn make_beams(
-    scene: &Scene,
-    cfg: &Beam2dScene,
-    sample: &PolygonSample,
-    loading: &Beam2dLoading,
-) -> Beams {
+fn make_beams(cfg: &Beam2dScene, sample: &PolygonSample, loading: &Beam2dLoading) -> Beams {
     let mut beams = Beams::default();
-    if !scene.has_effect(EffectKind::Beams) {
+    // Present exactly with the `beams` effect.
+    let Some(material) = cfg.material.beams else {
         return beams;
-    }
-    let young = cfg.material.beam_young.expect("validated");
+    };
+    let young = material.young;
     let t = sample.info.thickness;
     let p = &sample.polygons;
     let loose = match loading {
@@ -460,15 +451,15 @@ pub fn averaged_power_law_interval(runs: &[&Beam2dRun]) -> Option<[f64; 2]> {
 
 impl Model for Beam2d {
     const KIND: &'static str = "beam2d";
-    type Section = Beam2dScene;
+    type Section = scene::RawBeam2dScene;
     const BODY: &'static str = "polygon";
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
     const INTEGRATORS: &'static [IntegratorKind] =
         &[IntegratorKind::VelocityVerlet, IntegratorKind::Gear5];
     const SHARED_KEYS: &'static [&'static str] = &[];
 
-    fn validate(scene: &Scene, section: &Beam2dScene) -> Result<()> {
-        scene::validate(scene, section)
+    fn validate(scene: &Scene, section: &scene::RawBeam2dScene) -> Result<()> {
+        scene::validate(scene, section).map(drop)
     }
 
     fn explain(scene: &Scene) -> Result<String> {
@@ -476,7 +467,7 @@ impl Model for Beam2d {
     }
 
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
-        let cfg: Beam2dScene = scene.section()?;
+        let cfg = Beam2dScene::read(scene)?;
         let mut sample = lattice(scene, &cfg)?;
         progress(&format!(
             "{} polygons ({:.2} vertices on average), {} shared sides",
@@ -484,7 +475,7 @@ impl Model for Beam2d {
         ));
         let mean_polygon_mass = sample.polygons.total_mass() / sample.polygons.len() as f64;
         let loading = Beam2dLoading::prepare(scene, &cfg, &mut sample)?;
-        let beams = make_beams(scene, &cfg, &sample, &loading);
+        let beams = make_beams(&cfg, &sample, &loading);
         let dt_critical = critical_time_step(scene, &cfg, &sample, &beams);
         let dt = scene.time.step(dt_critical);
         if !dt.is_finite() {
@@ -561,7 +552,7 @@ impl Model for Beam2d {
     fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self> {
         let state: Beam2dState = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's beam2d state is damaged ({e})")))?;
-        let cfg: Beam2dScene = scene.section()?;
+        let cfg = Beam2dScene::read(scene)?;
         Ok(Beam2d {
             pipeline: polygon_pipeline(scene, &cfg, &state),
             cfg,

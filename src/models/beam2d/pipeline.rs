@@ -80,12 +80,12 @@ impl PolygonPipeline {
         skin: f64,
     ) -> Self {
         let m = &cfg.material;
-        let thickness = cfg.sample.thickness.unwrap_or(1.0);
+        let thickness = cfg.sample.thickness;
         let contact = scene.has_effect(EffectKind::Contact).then(|| {
             let law = OverlapLaw {
                 young_thickness: m.young * thickness,
-                gamma_n: m.normal_damping.unwrap_or(0.0),
-                gamma_t: m.tangential_damping.unwrap_or(0.0),
+                gamma_n: m.normal_damping,
+                gamma_t: m.tangential_damping,
                 mu: m.friction,
             };
             let damp = scene.has_effect(EffectKind::Damping);
@@ -98,14 +98,10 @@ impl PolygonPipeline {
             };
             c
         });
-        let beam_effect = scene.has_effect(EffectKind::Beams).then(|| {
-            let young = m.beam_young.expect("validated");
-            let b: Box<dyn BeamEffect> = if scene.has_effect(EffectKind::BeamBreaking) {
-                let rule = BreakingRule {
-                    strain: m.beam_strain_threshold.expect("validated"),
-                    bending: m.beam_bending_threshold.expect("validated"),
-                    form: m.beam_breaking_rule,
-                };
+        // Present exactly with the `beams` effect, and the rule with `beam_breaking`.
+        let beam_effect = m.beams.map(|material| {
+            let young = material.young;
+            let b: Box<dyn BeamEffect> = if let Some(rule) = material.breaking {
                 Box::new(BeamForces::<true>::new(
                     polys.len(),
                     beams,

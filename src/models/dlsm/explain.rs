@@ -3,14 +3,14 @@
 use std::fmt::Write;
 
 use super::loading::DlsmLoading;
-use super::scene::DlsmScene;
+use super::scene::{DlsmScene, Seeds};
 use super::{DEFAULT_PHI, sample};
 use crate::error::Result;
 use crate::scene::{EffectKind, IntegratorKind, Scene};
 
 /// `fractum explain` for a dlsm scene: what it builds, without building the sample.
 pub fn explain(scene: &Scene) -> Result<String> {
-    let cfg: DlsmScene = scene.section()?;
+    let cfg = DlsmScene::read(scene)?;
     let mut s = String::new();
     let p = &cfg.sample;
     let m = &cfg.material;
@@ -24,20 +24,19 @@ pub fn explain(scene: &Scene) -> Result<String> {
         "model: dlsm, Voronoi polyhedra joined by the distinct lattice spring model: least-squares strain per element (Eq. 1-15), contact strain (Eq. 16-18), Hooke force (Eq. 20-25) with E = {:e} Pa, nu = {}, moments with K = E L0 per unit area (Eq. 28-34)",
         m.young, m.poisson
     );
-    let method = p.method.map_or("noisy_grid", |x| x.as_str());
-    let randomness = match method {
-        "noisy_grid" => format!(", noise d = {}", p.noise.unwrap_or(sample::DEFAULT_NOISE)),
-        "packing" => format!(
-            ", radius dispersion {}",
-            p.radius_dispersion.unwrap_or(sample::DEFAULT_DISPERSION)
-        ),
-        _ => String::new(),
+    let method = p.seeds.method().as_str();
+    let randomness = match p.seeds {
+        Seeds::NoisyGrid { noise } => format!(", noise d = {noise}"),
+        Seeds::Packing { radius_dispersion } => {
+            format!(", radius dispersion {radius_dispersion}")
+        }
+        Seeds::Grid => String::new(),
     };
     let _ = writeln!(
         s,
         "sample: {} of about {} elements, seeds by {method}{randomness}, domain {:?}",
-        p.kind.as_str(),
-        p.elements.unwrap_or(0),
+        p.kind().as_str(),
+        p.elements,
         sample::domain(&cfg)
     );
     let _ = writeln!(

@@ -211,7 +211,10 @@ impl Dlsm {
             }
         }
         if let DlsmLoading::Drop(_) = &loading {
-            let v0 = Vec3::from(cfg.loading.initial_velocity.unwrap_or([0.0; 3]));
+            let v0 = Vec3::from(match cfg.loading {
+                scene::LoadingSpec::Drop(d) => d.initial_velocity,
+                _ => [0.0; 3],
+            });
             bodies.vel.iter_mut().for_each(|v| *v = v0);
         }
         let model = Dlsm {
@@ -415,7 +418,7 @@ impl Dlsm {
 
 impl Model for Dlsm {
     const KIND: &'static str = "dlsm";
-    type Section = DlsmScene;
+    type Section = scene::RawDlsmScene;
     const BODY: &'static str = "element";
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
     const INTEGRATORS: &'static [IntegratorKind] = &[
@@ -424,8 +427,8 @@ impl Model for Dlsm {
     ];
     const SHARED_KEYS: &'static [&'static str] = &["time.phi"];
 
-    fn validate(scene: &Scene, section: &DlsmScene) -> Result<()> {
-        scene::validate(scene, section)
+    fn validate(scene: &Scene, section: &scene::RawDlsmScene) -> Result<()> {
+        scene::validate(scene, section).map(drop)
     }
 
     fn explain(scene: &Scene) -> Result<String> {
@@ -433,7 +436,7 @@ impl Model for Dlsm {
     }
 
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
-        let cfg: DlsmScene = scene.section()?;
+        let cfg = DlsmScene::read(scene)?;
         let s = sample::build(scene, &cfg, progress)?;
         let (mut model, dt, warnings) = Dlsm::assemble(scene, cfg, s)?;
         model.check_step(scene, dt)?;
@@ -471,7 +474,7 @@ impl Model for Dlsm {
     fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self> {
         let state: DlsmState = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's dlsm state is damaged ({e})")))?;
-        let cfg: DlsmScene = scene.section()?;
+        let cfg = DlsmScene::read(scene)?;
         let s = sample::build(scene, &cfg, &mut |_| {})?;
         let (mut model, _, _) = Dlsm::assemble(scene, cfg, s)?;
         if state.bodies.len() != model.state.bodies.len() {

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::{DlsmScene, LoadingKind, SampleKind, SampleMethod};
+use super::scene::{DlsmScene, LoadingSpec, SampleShape, Seeds};
 use crate::bond::dlsm::DlsmBonds;
 use crate::error::Result;
 use crate::sample::stream;
@@ -61,34 +61,25 @@ pub struct DlsmSample {
     pub info: DlsmSampleInfo,
 }
 
-/// The domain of a Voronoi sample (validated keys).
+/// The domain of a Voronoi sample.
 pub fn domain(cfg: &DlsmScene) -> Domain {
-    let p = &cfg.sample;
-    match p.kind {
-        SampleKind::VoronoiCylinder => {
-            let (length, radius) = (p.length.expect("validated"), p.radius.expect("validated"));
-            Domain::Cylinder {
-                length: length + clamp_grip(cfg, length, radius),
-                radius,
-            }
-        }
-        SampleKind::VoronoiDisc => Domain::Disc {
-            diameter: p.diameter.expect("validated"),
-            thickness: p.thickness.expect("validated"),
+    match cfg.sample.shape {
+        SampleShape::Cylinder { length, radius } => Domain::Cylinder {
+            length: length + clamp_grip(cfg, length, radius),
+            radius,
         },
-        SampleKind::VoronoiBall => Domain::Ball {
-            radius: p.radius.expect("validated"),
+        SampleShape::Disc {
+            diameter,
+            thickness,
+        } => Domain::Disc {
+            diameter,
+            thickness,
         },
-        SampleKind::VoronoiBox => {
-            let size = match (p.box_size, p.length) {
-                (Some(b), _) => Vec3::from(b),
-                (None, l) => Vec3::repeat(l.expect("validated")),
-            };
-            Domain::Box {
-                lo: Vec3::zeros(),
-                hi: size,
-            }
-        }
+        SampleShape::Ball { radius } => Domain::Ball { radius },
+        SampleShape::Box { size } => Domain::Box {
+            lo: Vec3::zeros(),
+            hi: Vec3::from(size),
+        },
     }
 }
 
@@ -97,10 +88,10 @@ pub fn domain(cfg: &DlsmScene) -> Domain {
 /// size) and then shifted so that the held seeds sit on x = 0, where the clamped section of
 /// a bar of length `sample.length` is.
 fn clamp_grip(cfg: &DlsmScene, length: f64, radius: f64) -> f64 {
-    if cfg.loading.kind != LoadingKind::FreeVibration {
+    if !matches!(cfg.loading, LoadingSpec::FreeVibration(_)) {
         return 0.0;
     }
-    let n = cfg.sample.elements.expect("validated") as f64;
+    let n = cfg.sample.elements as f64;
     0.5 * (std::f64::consts::PI * radius * radius * length / n).cbrt()
 }
 
@@ -112,17 +103,14 @@ pub fn build(
 ) -> Result<DlsmSample> {
     let p = &cfg.sample;
     let domain = domain(cfg);
-    let n = p.elements.expect("validated");
-    let method = p.method.unwrap_or(SampleMethod::NoisyGrid);
+    let n = p.elements;
     let mut rng = stream(scene.seed, STREAM_SEEDS);
-    let (seeds, randomness) = match method {
-        SampleMethod::Grid => (noisy_grid_seeds(&domain, n, 0.0, &mut rng), 0.0),
-        SampleMethod::NoisyGrid => {
-            let d = p.noise.unwrap_or(DEFAULT_NOISE);
-            (noisy_grid_seeds(&domain, n, d, &mut rng), d)
-        }
-        SampleMethod::Packing => {
-            let delta = p.radius_dispersion.unwrap_or(DEFAULT_DISPERSION);
+    let (seeds, randomness) = match p.seeds {
+        Seeds::Grid => (noisy_grid_seeds(&domain, n, 0.0, &mut rng), 0.0),
+        Seeds::NoisyGrid { noise: d } => (noisy_grid_seeds(&domain, n, d, &mut rng), d),
+        Seeds::Packing {
+            radius_dispersion: delta,
+        } => {
             progress(&format!(
                 "packing about {n} spheres (radius dispersion {delta}) for the Voronoi seeds"
             ));
@@ -144,7 +132,7 @@ pub fn build(
     let mut cells = tessellate(&seeds, &domain)
         .map_err(|m| scene.key_error("sample", format!("cannot be tessellated: {m}")))?;
     let mut seeds = seeds;
-    if cfg.loading.kind == LoadingKind::FreeVibration {
+    if let LoadingSpec::FreeVibration(_) = cfg.loading {
         let held: Vec<f64> = cells
             .iter()
             .filter(|c| {
@@ -185,8 +173,8 @@ pub fn build(
     }
     let volume: f64 = cells.iter().map(|c| c.volume).sum();
     let info = DlsmSampleInfo {
-        kind: p.kind.as_str().to_string(),
-        method: method.as_str().to_string(),
+        kind: p.kind().as_str().to_string(),
+        method: p.seeds.method().as_str().to_string(),
         randomness,
         elements: cells.len(),
         contacts: bonds.contacts(),

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::Simulation;
-use super::scene::GranularScene;
+use super::scene::{GranularScene, LoadingSpec};
 use crate::bench::Timed;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
@@ -184,8 +184,11 @@ pub fn time_poly_ellipsoid_case(
 /// bodies at the end.
 pub fn time_shpb(path: &Path, overrides: &[String], threads: usize) -> Result<(f64, usize, usize)> {
     let scene = Scene::load(path, overrides)?;
-    let cfg: GranularScene = scene.section()?;
-    let end_strain = cfg.loading.end_strain.unwrap_or(0.0);
+    let cfg = GranularScene::read(&scene)?;
+    let end_strain = match cfg.loading {
+        LoadingSpec::Oedometer { end_strain, .. } => end_strain,
+        _ => 0.0,
+    };
     let mut sim = Simulation::new(scene, threads, &mut |_| {})?;
     let grains = sim.bodies.len();
     let start = Instant::now();

@@ -2,7 +2,9 @@
 
 use std::fmt::Write;
 
-use super::scene::{EFFECTS, GrainShape, GranularScene, SampleKind};
+use super::scene::{
+    Amount, EFFECTS, Grains, GranularScene, Orientations, Packing, RandomShape, SampleSpec,
+};
 use crate::error::Result;
 use crate::explain::write_pipeline;
 use crate::scene::{EffectKind, Scene};
@@ -10,7 +12,7 @@ use crate::scene::{EffectKind, Scene};
 /// A human-readable account of the scene: sample, force pipeline (and what is left out),
 /// loading, time step and outputs.
 pub fn explain(scene: &Scene) -> Result<String> {
-    let cfg: GranularScene = scene.section()?;
+    let cfg = GranularScene::read(scene)?;
     let pipeline = super::pipeline(scene, &cfg);
     let mut s = String::new();
     let _ = writeln!(
@@ -96,72 +98,71 @@ fn describe_fracture(scene: &Scene, cfg: &GranularScene) -> String {
 }
 
 fn describe_sample(cfg: &GranularScene) -> String {
-    let p = &cfg.sample;
-    let method = match super::scene::packing(p) {
-        super::scene::Packing::Geometric => {
-            "packed without overlap by growth and collective rearrangement (He et al. 1999)"
-        }
-        super::scene::Packing::Compaction => {
-            "placed at a low solid fraction (bounding spheres at 0.4), then compressed by the box's faces without friction to the fraction (friction restored for loading)"
-        }
-    };
-    match p.kind {
-        SampleKind::Random if p.shape == Some(GrainShape::Ellipsoid) => {
-            let count = match (p.count, p.solid_fraction) {
-                (Some(n), _) => format!("{n} ellipsoid grains"),
-                (None, Some(phi)) => format!("ellipsoid grains filling solid fraction {phi}"),
-                _ => String::new(),
+    let p: &SampleSpec = &cfg.sample;
+    let kind = p.kind().as_str();
+    match &p.grains {
+        Grains::Random(r) => {
+            let method = match r.packing() {
+                Packing::Geometric => {
+                    "packed without overlap by growth and collective rearrangement (He et al. 1999)"
+                }
+                Packing::Compaction => {
+                    "placed at a low solid fraction (bounding spheres at 0.4), then compressed by the box's faces without friction to the fraction (friction restored for loading)"
+                }
             };
-            format!(
-                "random packing of {count}, semi-axes drawn (uniformly, with replacement) from the grains of {}, orientations {}, box {:?} m, {method}",
-                p.grain_file.as_deref().unwrap_or(""),
-                if p.orientations == Some(super::scene::Orientations::Aligned) {
-                    "aligned"
-                } else {
-                    "random"
-                },
-                p.box_size.unwrap_or_default()
-            )
-        }
-        SampleKind::EllipsoidAssembly => format!(
-            "ellipsoid assembly {} imported as it is (semi-axes, centres, orientations), in the box its grains span",
-            p.file.as_deref().unwrap_or("")
-        ),
-        SampleKind::Random => {
-            let (mean, sd, min, max) = super::sample::radius_bounds(cfg);
-            let count = match (p.count, p.solid_fraction) {
-                (Some(n), _) => format!("{n} spheres"),
-                (None, Some(phi)) => format!("spheres filling solid fraction {phi}"),
-                _ => String::new(),
+            let (grains, radii) = match &r.shape {
+                RandomShape::Ellipsoids { grain_file } => {
+                    let count = match r.amount {
+                        Amount::Count(n) | Amount::Both { count: n, .. } => {
+                            format!("{n} ellipsoid grains")
+                        }
+                        Amount::SolidFraction(phi) => {
+                            format!("ellipsoid grains filling solid fraction {phi}")
+                        }
+                    };
+                    return format!(
+                        "random packing of {count}, semi-axes drawn (uniformly, with replacement) from the grains of {grain_file}, orientations {}, box {:?} m, {method}",
+                        if r.orientations == Orientations::Aligned {
+                            "aligned"
+                        } else {
+                            "random"
+                        },
+                        r.box_size
+                    );
+                }
+                RandomShape::Spheres { radii, .. } | RandomShape::PolyEllipsoids { radii, .. } => {
+                    ("spheres", radii)
+                }
+            };
+            let count = match r.amount {
+                Amount::Count(n) | Amount::Both { count: n, .. } => format!("{n} {grains}"),
+                Amount::SolidFraction(phi) => format!("{grains} filling solid fraction {phi}"),
             };
             let mut s = format!(
-                "random packing of {count}, radii truncated normal (mean {mean:e} m, sd {sd:e} m, in [{min:e}, {max:e}] m), box {:?} m, {method}",
-                p.box_size.unwrap_or_default()
+                "random packing of {count}, radii truncated normal (mean {:e} m, sd {:e} m, in [{:e}, {:e}] m), box {:?} m, {method}",
+                radii.mean, radii.sd, radii.min, radii.max, r.box_size
             );
-            if let Some(pr) = p.pressure {
+            if let Some(c) = p.compaction {
                 let _ = write!(
                     s,
-                    ", then servo-compacted to {pr:e} Pa (friction {})",
-                    p.compaction_friction.unwrap_or(cfg.material.friction)
+                    ", then servo-compacted to {:e} Pa (friction {})",
+                    c.pressure, c.friction
                 );
             }
             s
         }
-        SampleKind::SimpleCubic | SampleKind::Hcp => format!(
-            "{} lattice of {:?} spheres of radius {:e} m",
-            p.kind.as_str(),
-            p.layers.unwrap_or_default(),
-            p.radius_mean.unwrap_or_default()
+        Grains::EllipsoidAssembly { file } => format!(
+            "ellipsoid assembly {file} imported as it is (semi-axes, centres, orientations), in the box its grains span"
         ),
-        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => format!(
-            "{} file {}",
-            p.kind.as_str(),
-            p.file.as_deref().unwrap_or("")
+        Grains::Lattice(l) => format!(
+            "{kind} lattice of {:?} spheres of radius {:e} m",
+            l.layers, l.radius
         ),
-        SampleKind::Single => format!(
+        Grains::File(f) => format!("{kind} file {}", f.file),
+        Grains::Single(g) => format!(
             "one poly-ellipsoid grain, semi-axes [a+, a-, b+, b-, c+, c-] = {:?} m, on the bottom of a box of base {:?} m",
-            p.semi_axes.unwrap_or_default(),
-            p.box_size.map(|b| [b[0], b[1]]).unwrap_or_default()
+            g.semi_axes,
+            [g.box_size[0], g.box_size[1]]
         ),
     }
 }

@@ -2,7 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::scene::{GranularScene, LoadingKind, LoadingSpec};
+use super::scene::{GranularScene, LoadingSpec};
 use crate::error::Result;
 use crate::probe::Series;
 use crate::probe::fit::least_squares_slope;
@@ -33,12 +33,12 @@ pub enum Loading {
 
 impl Loading {
     pub fn from_scene(scene: &Scene, cfg: &GranularScene, walls: &Walls) -> Result<Loading> {
-        let l = &cfg.loading;
-        Ok(match l.kind {
-            LoadingKind::None => Loading::None {
-                end_time: l.end_time.expect("validated"),
-            },
-            LoadingKind::Oedometer => {
+        Ok(match cfg.loading {
+            LoadingSpec::None { end_time } => Loading::None { end_time },
+            LoadingSpec::Oedometer {
+                strain_rate,
+                end_strain,
+            } => {
                 if !walls.is_box {
                     return Err(scene.key_error(
                         "loading.kind",
@@ -46,12 +46,15 @@ impl Loading {
                     ));
                 }
                 Loading::Oedometer {
-                    strain_rate: l.strain_rate.expect("validated"),
-                    end_strain: l.end_strain.expect("validated"),
+                    strain_rate,
+                    end_strain,
                     height0: walls.box_size().z,
                 }
             }
-            LoadingKind::Platens => {
+            LoadingSpec::Platens {
+                speed,
+                end_displacement,
+            } => {
                 if !walls.is_box {
                     return Err(scene.key_error(
                         "loading.kind",
@@ -59,8 +62,8 @@ impl Loading {
                     ));
                 }
                 Loading::Platens {
-                    speed: l.speed.expect("validated"),
-                    end_displacement: l.end_displacement.expect("validated"),
+                    speed,
+                    end_displacement,
                 }
             }
         })
@@ -111,20 +114,19 @@ impl Loading {
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table (the
     /// sample, which sets the oedometer's speed, is not built to explain it).
     pub fn describe(l: &LoadingSpec) -> String {
-        match l.kind {
-            LoadingKind::None => format!(
-                "none: walls fixed for {:e} s",
-                l.end_time.unwrap_or_default()
+        match *l {
+            LoadingSpec::None { end_time } => format!("none: walls fixed for {end_time:e} s"),
+            LoadingSpec::Oedometer {
+                strain_rate,
+                end_strain,
+            } => format!(
+                "oedometer: top wall (z+) driven down at {strain_rate} 1/s to axial strain {end_strain}; the other five walls fixed"
             ),
-            LoadingKind::Oedometer => format!(
-                "oedometer: top wall (z+) driven down at {} 1/s to axial strain {}; the other five walls fixed",
-                l.strain_rate.unwrap_or_default(),
-                l.end_strain.unwrap_or_default()
-            ),
-            LoadingKind::Platens => format!(
-                "platens: top wall (z+) driven down at {} m/s for {:e} m; the bottom fixed",
-                l.speed.unwrap_or_default(),
-                l.end_displacement.unwrap_or_default()
+            LoadingSpec::Platens {
+                speed,
+                end_displacement,
+            } => format!(
+                "platens: top wall (z+) driven down at {speed} m/s for {end_displacement:e} m; the bottom fixed"
             ),
         }
     }

@@ -190,7 +190,7 @@ fn pipeline_for(scene: &Scene, cfg: &GranularScene, shaped: bool) -> Pipeline {
 pub fn contact_params(scene: &Scene, cfg: &GranularScene, friction: Option<f64>) -> ContactParams {
     use crate::contact::hertz_mindlin::{Hertz, Mindlin, ViscousDamping};
     let m = &cfg.material;
-    let nu = m.poisson();
+    let nu = m.poisson;
     ContactParams {
         hertz: Hertz::new(m.young, nu),
         damping: scene
@@ -201,12 +201,7 @@ pub fn contact_params(scene: &Scene, cfg: &GranularScene, friction: Option<f64>)
             .then(|| Mindlin::new(m.young, nu, friction.unwrap_or(m.friction))),
         wall_friction: cfg.walls.friction,
         skin: cfg.neighbor.skin,
-        shapes: scene.has_effect(EffectKind::Fracture)
-            || matches!(
-                cfg.sample.shape,
-                Some(scene::GrainShape::PolyEllipsoid | scene::GrainShape::Ellipsoid)
-            )
-            || cfg.sample.kind == scene::SampleKind::EllipsoidAssembly,
+        shapes: scene.has_effect(EffectKind::Fracture) || cfg.sample.non_spherical(),
     }
 }
 
@@ -215,7 +210,7 @@ pub fn fracture_params(scene: &Scene, cfg: &GranularScene) -> FractureParams {
     FractureParams::new(
         &cfg.fracture,
         cfg.material.young,
-        cfg.material.poisson(),
+        cfg.material.poisson,
         scene.has_effect(EffectKind::Weibull),
         scene.has_effect(EffectKind::Cohesion),
     )
@@ -244,7 +239,7 @@ impl Granular {
         // chosen for them; `adapt_time_step` shortens it further when pieces' contacts ask.
         let fracture = scene.has_effect(EffectKind::Fracture);
         let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
-        let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson());
+        let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson);
         let dt = scene.time.step(dt_rayleigh);
         crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
         let end = end_step(loading.end_time(), dt);
@@ -681,14 +676,14 @@ fn axial_stress_column(series: &Series) -> Vec<f64> {
 
 impl Model for Granular {
     const KIND: &'static str = "granular";
-    type Section = GranularScene;
+    type Section = scene::RawGranularScene;
     const BODY: &'static str = "body";
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
     const INTEGRATORS: &'static [IntegratorKind] = &[IntegratorKind::VelocityVerlet];
     const SHARED_KEYS: &'static [&'static str] = &["output.report_strains"];
 
-    fn validate(scene: &Scene, section: &GranularScene) -> Result<()> {
-        scene::validate(scene, section)
+    fn validate(scene: &Scene, section: &scene::RawGranularScene) -> Result<()> {
+        scene::validate(scene, section).map(drop)
     }
 
     fn explain(scene: &Scene) -> Result<String> {
@@ -696,7 +691,7 @@ impl Model for Granular {
     }
 
     fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
-        let cfg: GranularScene = scene.section()?;
+        let cfg = GranularScene::read(scene)?;
         let sample = sample::build(scene, &cfg, progress)?;
         Granular::from_sample(scene, cfg, sample)
     }
@@ -713,7 +708,7 @@ impl Model for Granular {
         state.check_lengths().map_err(|why| {
             Error::run(format!("the saved granular state is inconsistent: {why}"))
         })?;
-        let mut model = Granular::with_state(scene, scene.section()?, state);
+        let mut model = Granular::with_state(scene, GranularScene::read(scene)?, state);
         model.pipeline.restore(&effects, model.state.bodies.len())?;
         Ok(model)
     }
@@ -957,7 +952,7 @@ impl Faces for Granular {
 impl Runner<Granular> {
     /// A granular run on a sample made elsewhere (tests, benchmarks, exports).
     pub fn from_sample(scene: Scene, sample: Sample, threads: usize) -> Result<Self> {
-        let cfg: GranularScene = scene.section()?;
+        let cfg = GranularScene::read(&scene)?;
         let built = Granular::from_sample(&scene, cfg, sample)?;
         Runner::from_built(scene, built, threads)
     }

@@ -5,7 +5,10 @@ use nalgebra::UnitQuaternion;
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
-use super::scene::{GrainShape, GranularScene, Orientations, Packing, SampleKind};
+use super::scene::{
+    Amount, FileSample, Grains, GranularScene, LatticeSample, Orientations, Packing, Radii,
+    RandomSample, RandomShape, SampleKind, SingleGrain,
+};
 use crate::error::Result;
 use crate::sample::{
     CompactionSpec, EllipsoidGrain, FractionSpec, STREAM_ORIENTATIONS, STREAM_POSITIONS,
@@ -25,16 +28,16 @@ use crate::state::{Bodies, Vec3, Walls};
 fn single_grain(
     scene: &Scene,
     cfg: &GranularScene,
+    spec: &SingleGrain,
     orient: &mut ChaCha8Rng,
 ) -> Result<(Bodies, Walls)> {
-    let spec = &cfg.sample;
-    let semi = spec.semi_axes.expect("validated");
+    let semi = spec.semi_axes;
     let pe = PolyEllipsoid::new(semi).map_err(|m| scene.key_error("sample.semi_axes", m))?;
-    let q = match spec.orientations.unwrap_or(Orientations::Aligned) {
+    let q = match spec.orientations {
         Orientations::Random => random_orientation(orient),
         Orientations::Aligned => UnitQuaternion::identity(),
     };
-    let bx = spec.box_size.expect("validated");
+    let bx = spec.box_size;
     // Extent of the grain along z about its octant origin.
     let up = pe.support_value(&(q.inverse() * Vec3::z()));
     let down = pe.support_value(&(q.inverse() * -Vec3::z()));
@@ -54,8 +57,12 @@ fn single_grain(
 /// it, its six semi-axes drawn uniformly in [r / aspect_ratio_max, r] (so that each axis ratio
 /// lies between 1 and the maximum), its octant origin at the sphere's centre and its shape
 /// frame the sphere's orientation.
-fn poly_ellipsoids_in_spheres(scene: &Scene, cfg: &GranularScene, spheres: &Bodies) -> Bodies {
-    let aspect = cfg.sample.aspect_ratio_max.unwrap_or(2.0);
+fn poly_ellipsoids_in_spheres(
+    scene: &Scene,
+    cfg: &GranularScene,
+    aspect: f64,
+    spheres: &Bodies,
+) -> Bodies {
     let mut rng = stream(scene.seed, STREAM_SHAPES);
     let rho = cfg.material.density;
     let mut b = Bodies::default();
@@ -78,106 +85,73 @@ pub fn build(
     let spec = &cfg.sample;
     let rho = cfg.material.density;
     let mut orient = stream(scene.seed, STREAM_ORIENTATIONS);
-    let compacted =
-        spec.kind == SampleKind::Random && super::scene::packing(spec) == Packing::Compaction;
     let mut compaction_steps = 0;
-    // A data file of the Fractum LAMMPS plugin gives its bodies with their own orientations.
-    let mut plugin_bodies = false;
-    let (mut bodies, mut walls) = match spec.kind {
-        SampleKind::Random if compacted => {
-            let (b, w, steps) = compacted_sample(scene, cfg, &mut orient, progress)?;
-            compaction_steps = steps;
+    // Whether the grains came with their orientations (else they are aligned, and turned
+    // below with `orientations = "random"`).
+    let mut own_orientations = true;
+    let mut orientations = Orientations::Aligned;
+    let (mut bodies, mut walls) = match &spec.grains {
+        Grains::Random(r) => match &r.shape {
+            RandomShape::Spheres {
+                radii,
+                packing: Packing::Geometric,
+            }
+            | RandomShape::PolyEllipsoids {
+                radii,
+                packing: Packing::Geometric,
+                ..
+            } => {
+                (own_orientations, orientations) = (false, r.orientations);
+                random_sample(scene, cfg, r, radii, progress)?
+            }
+            _ => {
+                let (b, w, steps) = compacted_sample(scene, cfg, r, &mut orient, progress)?;
+                compaction_steps = steps;
+                (b, w)
+            }
+        },
+        Grains::EllipsoidAssembly { file } => ellipsoid_assembly(scene, cfg, file)?,
+        Grains::Lattice(l) => {
+            (own_orientations, orientations) = (false, l.orientations);
+            lattice(l, rho)
+        }
+        Grains::File(f) => {
+            let (b, w, held) = packing_file(scene, f, rho)?;
+            (own_orientations, orientations) = (held, f.orientations);
             (b, w)
         }
-        SampleKind::Random => random_sample(scene, cfg, progress)?,
-        SampleKind::EllipsoidAssembly => ellipsoid_assembly(scene, cfg)?,
-        SampleKind::SimpleCubic | SampleKind::Hcp => {
-            let r = spec.radius_mean.expect("validated");
-            let layers = spec.layers.expect("validated");
-            let (pos, size) = if spec.kind == SampleKind::Hcp {
-                hcp_positions(r, layers)
-            } else {
-                simple_cubic_positions(r, layers)
-            };
-            let mut b = Bodies::default();
-            for p in pos {
-                b.push_sphere(p, r, rho, UnitQuaternion::identity());
-            }
-            (b, Walls::new_box(Vec3::zeros(), size))
-        }
-        SampleKind::Text | SampleKind::LammpsData | SampleKind::YadeText => {
-            let file = spec.file.as_deref().expect("validated");
-            let path = scene.resolve(file);
-            let packing = if spec.kind == SampleKind::LammpsData {
-                read_lammps_data(&path)
-            } else {
-                read_text_packing(&path)
-            }
-            .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
-            let mut b = Bodies::default();
-            if let Some(held) = packing.bodies {
-                // A Fractum plugin state: the bodies as the plugin held them.
-                plugin_bodies = true;
-                for body in held {
-                    b.push(body);
-                }
-            } else {
-                for (p, r) in packing.spheres {
-                    b.push_sphere(p, r, rho, UnitQuaternion::identity());
-                }
-                for (i, v) in packing.velocities {
-                    if i < b.len() {
-                        b.vel[i] = v;
-                    }
-                }
-            }
-            // The file's own box first (docs/scenes.md): it is exact data, `box` a fallback.
-            let (lo, hi) = match (packing.bounds, spec.box_size) {
-                (Some(bounds), _) => bounds,
-                (None, Some(size)) => (Vec3::zeros(), Vec3::from(size)),
-                (None, None) => bounding_box(&b),
-            };
-            (b, Walls::new_box(lo, hi))
-        }
-        SampleKind::Single => single_grain(scene, cfg, &mut orient)?,
+        Grains::Single(g) => single_grain(scene, cfg, g, &mut orient)?,
     };
-    let default_orientations = if spec.kind == SampleKind::Random {
-        Orientations::Random
-    } else {
-        Orientations::Aligned
-    };
-    let own_orientations = compacted
-        || plugin_bodies
-        || matches!(
-            spec.kind,
-            SampleKind::Single | SampleKind::EllipsoidAssembly
-        );
-    if !own_orientations
-        && spec.orientations.unwrap_or(default_orientations) == Orientations::Random
-    {
+    if !own_orientations && orientations == Orientations::Random {
         for q in &mut bodies.orientation {
             *q = random_orientation(&mut orient);
         }
     }
-    if spec.shape == Some(GrainShape::PolyEllipsoid) {
-        bodies = poly_ellipsoids_in_spheres(scene, cfg, &bodies);
+    if let Grains::Random(RandomSample {
+        shape: RandomShape::PolyEllipsoids {
+            aspect_ratio_max, ..
+        },
+        ..
+    }) = spec.grains
+    {
+        bodies = poly_ellipsoids_in_spheres(scene, cfg, aspect_ratio_max, &bodies);
     }
-    if let Some(p) = spec.pressure {
+    if let Some(c) = spec.compaction {
         let m = &cfg.material;
         let spec = CompactionSpec {
             young: m.young,
-            poisson: m.poisson(),
+            poisson: m.poisson,
             density: m.density,
             skin: cfg.neighbor.skin,
-            pressure: p,
-            friction: spec.compaction_friction.unwrap_or(m.friction),
+            pressure: c.pressure,
+            friction: c.friction,
         };
         let report = compact_to_pressure(&mut bodies, &mut walls, &spec, progress)?;
         compaction_steps += report.steps;
     }
     let size = walls.box_size();
     let info = SampleInfo {
-        kind: spec.kind.as_str().to_string(),
+        kind: spec.kind().as_str().to_string(),
         count: bodies.len(),
         box_size: size.into(),
         solid_fraction: bodies.solid_volume() / (size.x * size.y * size.z),
@@ -188,6 +162,58 @@ pub fn build(
         walls,
         info,
     })
+}
+
+/// `kind = "simple_cubic"` or `"hcp"`: touching spheres, aligned.
+fn lattice(l: &LatticeSample, rho: f64) -> (Bodies, Walls) {
+    let (pos, size) = if l.hcp {
+        hcp_positions(l.radius, l.layers)
+    } else {
+        simple_cubic_positions(l.radius, l.layers)
+    };
+    let mut b = Bodies::default();
+    for p in pos {
+        b.push_sphere(p, l.radius, rho, UnitQuaternion::identity());
+    }
+    (b, Walls::new_box(Vec3::zeros(), size))
+}
+
+/// `kind = "text"`, `"lammps_data"` or `"yade_text"`: the file's spheres (and velocities),
+/// aligned, in the file's box, else `box`, else the box they span.
+/// The bodies of a packing file and the box; true when they come with their own orientations
+/// (a data file of the Fractum LAMMPS plugin: the bodies as the plugin held them).
+fn packing_file(scene: &Scene, f: &FileSample, rho: f64) -> Result<(Bodies, Walls, bool)> {
+    let file = f.file.as_str();
+    let path = scene.resolve(file);
+    let packing = if f.format == SampleKind::LammpsData {
+        read_lammps_data(&path)
+    } else {
+        read_text_packing(&path)
+    }
+    .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
+    let mut b = Bodies::default();
+    let held = packing.bodies.is_some();
+    if let Some(bodies) = packing.bodies {
+        for body in bodies {
+            b.push(body);
+        }
+    } else {
+        for (p, r) in packing.spheres {
+            b.push_sphere(p, r, rho, UnitQuaternion::identity());
+        }
+        for (i, v) in packing.velocities {
+            if i < b.len() {
+                b.vel[i] = v;
+            }
+        }
+    }
+    // The file's own box first (docs/scenes.md): it is exact data, `box` a fallback.
+    let (lo, hi) = match (packing.bounds, f.box_size) {
+        (Some(bounds), _) => bounds,
+        (None, Some(size)) => (Vec3::zeros(), Vec3::from(size)),
+        (None, None) => bounding_box(&b),
+    };
+    Ok((b, Walls::new_box(lo, hi), held))
 }
 
 /// The volume (m³) of an ellipsoid of semi-axes a, b, c.
@@ -207,8 +233,7 @@ fn read_grains(scene: &Scene, key: &str, file: &str) -> Result<Vec<EllipsoidGrai
 
 /// `kind = "ellipsoid_assembly"`: the file's grains as they are (semi-axes, centres, axes), in
 /// the box their extents span.
-fn ellipsoid_assembly(scene: &Scene, cfg: &GranularScene) -> Result<(Bodies, Walls)> {
-    let file = cfg.sample.file.as_deref().expect("validated");
+fn ellipsoid_assembly(scene: &Scene, cfg: &GranularScene, file: &str) -> Result<(Bodies, Walls)> {
     let grains = read_grains(scene, "sample.file", file)?;
     check_bodies(scene, "sample.file", grains.len() as f64, "grains")?;
     let rho = cfg.material.density;
@@ -241,49 +266,50 @@ fn ellipsoid_assembly(scene: &Scene, cfg: &GranularScene) -> Result<(Bodies, Wal
 fn compacted_sample(
     scene: &Scene,
     cfg: &GranularScene,
+    s: &RandomSample,
     orient: &mut ChaCha8Rng,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<(Bodies, Walls, u64)> {
-    let s = &cfg.sample;
-    let size = Vec3::from(s.box_size.expect("validated"));
+    let size = Vec3::from(s.box_size);
     let box_volume = size.x * size.y * size.z;
     // Each grain as semi-axes (a, b, c); spheres have a = b = c.
-    let grains: Vec<[f64; 3]> = if s.shape == Some(GrainShape::Ellipsoid) {
-        let mut rng = stream(scene.seed, STREAM_RADII);
-        let file = s.grain_file.as_deref().expect("validated");
-        let pool = read_grains(scene, "sample.grain_file", file)?;
-        let mean = pool.iter().map(|g| volume(&g.semi)).sum::<f64>() / pool.len() as f64;
-        if let (None, Some(phi)) = (s.count, s.solid_fraction) {
-            check_bodies(
-                scene,
-                "sample.box",
-                phi * box_volume / mean,
-                "grains at that solid fraction",
-            )?;
-        }
-        let mut out = Vec::new();
-        let mut v = 0.0;
-        loop {
-            let enough = match (s.count, s.solid_fraction) {
-                (Some(n), _) => out.len() >= n,
-                (None, Some(phi)) => v >= phi * box_volume,
-                (None, None) => unreachable!("validated"),
-            };
-            if enough {
-                break out;
+    let grains: Vec<[f64; 3]> = match &s.shape {
+        RandomShape::Ellipsoids { grain_file } => {
+            let mut rng = stream(scene.seed, STREAM_RADII);
+            let pool = read_grains(scene, "sample.grain_file", grain_file)?;
+            let mean = pool.iter().map(|g| volume(&g.semi)).sum::<f64>() / pool.len() as f64;
+            if let Amount::SolidFraction(phi) = s.amount {
+                check_bodies(
+                    scene,
+                    "sample.box",
+                    phi * box_volume / mean,
+                    "grains at that solid fraction",
+                )?;
             }
-            let g = pool[rng.random_range(0..pool.len())].semi;
-            v += volume(&g);
-            out.push(g);
+            let mut out = Vec::new();
+            let mut v = 0.0;
+            loop {
+                let enough = match s.amount {
+                    Amount::Count(n) | Amount::Both { count: n, .. } => out.len() >= n,
+                    Amount::SolidFraction(phi) => v >= phi * box_volume,
+                };
+                if enough {
+                    break out;
+                }
+                let g = pool[rng.random_range(0..pool.len())].semi;
+                v += volume(&g);
+                out.push(g);
+            }
         }
-    } else {
-        let radii = draw_radii(scene, cfg, box_volume)?;
-        radii.into_iter().map(|r| [r; 3]).collect()
+        RandomShape::Spheres { radii, .. } | RandomShape::PolyEllipsoids { radii, .. } => {
+            let radii = draw_radii(scene, radii, s.amount, box_volume);
+            radii.into_iter().map(|r| [r; 3]).collect()
+        }
     };
     let solid: f64 = grains.iter().map(volume).sum();
     // With both a count and a fraction the box keeps its shape, scaled to the fraction.
-    let target = match (s.count, s.solid_fraction) {
-        (Some(_), Some(phi)) => size * (solid / phi / box_volume).cbrt(),
+    let target = match s.amount {
+        Amount::Both { solid_fraction, .. } => size * (solid / solid_fraction / box_volume).cbrt(),
         _ => size,
     };
     let bounding: Vec<f64> = grains.iter().map(|g| g[0].max(g[1]).max(g[2])).collect();
@@ -315,7 +341,7 @@ fn compacted_sample(
             ),
         )
     })?;
-    let random = s.orientations.unwrap_or(Orientations::Random) == Orientations::Random;
+    let random = s.orientations == Orientations::Random;
     let rho = cfg.material.density;
     let mut b = Bodies::default();
     for (p, g) in pos.into_iter().zip(&grains) {
@@ -337,7 +363,7 @@ fn compacted_sample(
     let m = &cfg.material;
     let spec = FractionSpec {
         young: m.young,
-        poisson: m.poisson(),
+        poisson: m.poisson,
         density: m.density,
         skin: cfg.neighbor.skin,
         size: target,
@@ -373,60 +399,37 @@ fn compacted_sample(
 /// Solid fraction of the grains' bounding spheres when they are placed for compaction.
 const START_FRACTION: f64 = 0.4;
 
-/// The radius bounds of a random sample: the scene's, or mean ± 3 sd (at least 1% of the
-/// mean).
-pub fn radius_bounds(cfg: &GranularScene) -> (f64, f64, f64, f64) {
-    let s = &cfg.sample;
-    let mean = s.radius_mean.expect("validated");
-    let sd = s.radius_sd.unwrap_or(0.0);
-    let min = s.radius_min.unwrap_or((mean - 3.0 * sd).max(0.01 * mean));
-    let max = s.radius_max.unwrap_or(mean + 3.0 * sd);
-    (mean, sd, min, max)
-}
-
 /// The radii of a random sample of spheres, from the scene's seed: `count` of them, or as many
 /// as fill `solid_fraction` of a box of `box_volume` (m³).
-fn draw_radii(scene: &Scene, cfg: &GranularScene, box_volume: f64) -> Result<Vec<f64>> {
-    let s = &cfg.sample;
-    let (mean, sd, min, max) = radius_bounds(cfg);
+fn draw_radii(scene: &Scene, dist: &Radii, amount: Amount, box_volume: f64) -> Vec<f64> {
+    let Radii { mean, sd, min, max } = *dist;
     let mut rng = stream(scene.seed, STREAM_RADII);
-    match (s.count, s.solid_fraction) {
-        (Some(n), _) => Ok(truncated_normal_radii(
-            &mut rng,
-            mean,
-            sd,
-            min,
-            max,
-            |k, _| k < n,
-        )),
-        (None, Some(phi)) => Ok(truncated_normal_radii(
-            &mut rng,
-            mean,
-            sd,
-            min,
-            max,
-            |_, v| v < phi * box_volume,
-        )),
-        (None, None) => Err(scene.key_error(
-            "sample.count",
-            "or sample.solid_fraction is required for sample.kind = \"random\"",
-        )),
+    match amount {
+        Amount::Count(n) | Amount::Both { count: n, .. } => {
+            truncated_normal_radii(&mut rng, mean, sd, min, max, |k, _| k < n)
+        }
+        Amount::SolidFraction(phi) => {
+            truncated_normal_radii(&mut rng, mean, sd, min, max, |_, v| v < phi * box_volume)
+        }
     }
 }
 
+/// A random sample packed by growth without overlap (`packing = "geometric"`), of spheres
+/// drawn from `dist`.
 fn random_sample(
     scene: &Scene,
     cfg: &GranularScene,
+    s: &RandomSample,
+    dist: &Radii,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<(Bodies, Walls)> {
-    let s = &cfg.sample;
-    let mut size = Vec3::from(s.box_size.expect("validated"));
+    let mut size = Vec3::from(s.box_size);
     let box_volume = size.x * size.y * size.z;
-    let radii = draw_radii(scene, cfg, box_volume)?;
+    let radii = draw_radii(scene, dist, s.amount, box_volume);
     let solid: f64 = radii.iter().map(|&r| sphere_volume(r)).sum();
-    if let (Some(_), Some(phi)) = (s.count, s.solid_fraction) {
+    if let Amount::Both { solid_fraction, .. } = s.amount {
         // Both a count and a fraction: keep the box's shape, scale it to the fraction.
-        size *= (solid / phi / box_volume).cbrt();
+        size *= (solid / solid_fraction / box_volume).cbrt();
     }
     let phi = solid / (size.x * size.y * size.z);
     if phi > 0.65 {
@@ -477,6 +480,6 @@ fn random_sample(
 
 /// The sample of a granular scene (its section read from the scene).
 pub fn from_scene(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Sample> {
-    let cfg: GranularScene = scene.section()?;
+    let cfg = GranularScene::read(scene)?;
     build(scene, &cfg, progress)
 }

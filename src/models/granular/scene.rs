@@ -1,40 +1,35 @@
 //! The granular model's own scene tables (`material`, `sample`, `loading`, `walls`,
 //! `neighbor`, `fracture`), typed and checked. Keys of other models are refused by name.
+//!
+//! Serde reads the tables into their raw form (`raw`: every key that some kind lacks is an
+//! `Option`); the checks there turn it into the forms here, one variant per `kind` holding
+//! exactly what that kind reads, so that building needs no second look at which keys are
+//! present.
 
 use serde::Deserialize;
 
 use crate::error::Result;
 use crate::fracture::FractureSpec;
-use crate::scene::validate::{Range, check, check_bodies, require};
 use crate::scene::{EffectKind, NeighborSpec, Scene};
 
+mod raw;
+
+pub(super) use raw::{GranularScene as RawGranularScene, validate};
+
 /// Elastic and contact properties of the grains (and of the walls, which share them).
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[derive(Debug, Clone)]
 pub struct Material {
     /// Young's modulus E (Pa), > 0.
     pub young: f64,
     /// Poisson's ratio ν, in (-1, 0.5).
-    pub poisson: Option<f64>,
+    pub poisson: f64,
     /// Density ρ (kg/m³), > 0.
     pub density: f64,
-    /// Coulomb friction coefficient μ, ≥ 0 (used by the `friction` effect).
-    #[serde(default)]
+    /// Coulomb friction coefficient μ, ≥ 0 (used by the `friction` effect); default 0.
     pub friction: f64,
-    /// Normal coefficient of restitution e, in (0, 1] (used by the `damping` effect).
-    #[serde(default = "one")]
+    /// Normal coefficient of restitution e, in (0, 1] (used by the `damping` effect);
+    /// default 1.
     pub restitution: f64,
-}
-
-fn one() -> f64 {
-    1.0
-}
-
-impl Material {
-    /// ν, checked present at load.
-    pub fn poisson(&self) -> f64 {
-        self.poisson.unwrap_or(f64::NAN)
-    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -113,52 +108,185 @@ impl Packing {
     }
 }
 
-/// How the sample is made. Which keys apply depends on `kind`; see docs/scenes.md.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// How the sample is made: the grains its `kind` makes, then, with `pressure`, a servo
+/// compaction to that pressure. See docs/scenes.md.
+#[derive(Debug, Clone)]
 pub struct SampleSpec {
-    pub kind: SampleKind,
-    /// Number of spheres (random packings).
-    pub count: Option<usize>,
-    /// Mean radius (m) of the truncated normal radius distribution, or the lattice radius.
-    pub radius_mean: Option<f64>,
-    /// Standard deviation of the radius (m); 0 or absent: monodisperse.
-    pub radius_sd: Option<f64>,
-    /// Smallest radius (m) the truncated normal may give.
-    pub radius_min: Option<f64>,
-    /// Largest radius (m) the truncated normal may give.
-    pub radius_max: Option<f64>,
-    /// Box edge lengths [x, y, z] (m).
-    #[serde(rename = "box")]
+    pub grains: Grains,
+    /// Confining pressure (Pa), > 0 (range-checked for random samples): after the packing,
+    /// servo-controlled walls compress the sample until every wall carries this stress.
+    pub compaction: Option<PressureCompaction>,
+}
+
+impl SampleSpec {
+    /// `sample.kind`.
+    pub fn kind(&self) -> SampleKind {
+        match &self.grains {
+            Grains::Random(_) => SampleKind::Random,
+            Grains::Lattice(l) if l.hcp => SampleKind::Hcp,
+            Grains::Lattice(_) => SampleKind::SimpleCubic,
+            Grains::File(f) => f.format,
+            Grains::EllipsoidAssembly { .. } => SampleKind::EllipsoidAssembly,
+            Grains::Single(_) => SampleKind::Single,
+        }
+    }
+}
+
+impl SampleSpec {
+    /// Whether the grains may be other than spheres (poly-ellipsoids, ellipsoids).
+    pub fn non_spherical(&self) -> bool {
+        matches!(
+            &self.grains,
+            Grains::Random(RandomSample {
+                shape: RandomShape::PolyEllipsoids { .. } | RandomShape::Ellipsoids { .. },
+                ..
+            }) | Grains::EllipsoidAssembly { .. }
+        )
+    }
+}
+
+/// `sample.pressure` and the friction while compacting to it.
+#[derive(Debug, Clone, Copy)]
+pub struct PressureCompaction {
+    /// Confining pressure (Pa) every wall carries at the end.
+    pub pressure: f64,
+    /// Friction coefficient while compacting to `pressure`, ≥ 0 (`compaction_friction`;
+    /// default: material.friction).
+    pub friction: f64,
+}
+
+/// The grains of each `sample.kind`.
+#[derive(Debug, Clone)]
+pub enum Grains {
+    /// `random`: a random packing in a box.
+    Random(RandomSample),
+    /// `simple_cubic`, `hcp`: touching spheres on a lattice.
+    Lattice(LatticeSample),
+    /// `text`, `lammps_data`, `yade_text`: spheres read from a packing file.
+    File(FileSample),
+    /// `ellipsoid_assembly`: an ellipsoid assembly file (CSV, relative to the scene file)
+    /// imported as it is, in the box its grains span.
+    EllipsoidAssembly { file: String },
+    /// `single`: one grain on the bottom of a box whose top touches it.
+    Single(SingleGrain),
+}
+
+/// `kind = "random"`.
+#[derive(Debug, Clone)]
+pub struct RandomSample {
+    pub shape: RandomShape,
+    pub amount: Amount,
+    /// Box edge lengths [x, y, z] (m), each > 0.
+    pub box_size: [f64; 3],
+    /// Orientation of the grains' principal directions: "random" (uniform; the default) or
+    /// "aligned" with the box axes.
+    pub orientations: Orientations,
+}
+
+impl RandomSample {
+    /// How the sample reaches its solid fraction (`packing`): "geometric" (default for
+    /// spheres and poly-ellipsoids) or "compaction" (default, and the only method, for
+    /// ellipsoids).
+    pub fn packing(&self) -> Packing {
+        match self.shape {
+            RandomShape::Spheres { packing, .. } | RandomShape::PolyEllipsoids { packing, .. } => {
+                packing
+            }
+            RandomShape::Ellipsoids { .. } => Packing::Compaction,
+        }
+    }
+}
+
+/// The grains of a random packing (`shape`).
+#[derive(Debug, Clone)]
+pub enum RandomShape {
+    /// `shape = "sphere"` (the default).
+    Spheres { radii: Radii, packing: Packing },
+    /// `shape = "poly_ellipsoid"`: each packed sphere of radius r becomes a poly-ellipsoid
+    /// whose semi-axes are drawn uniformly in [r / aspect_ratio_max, r].
+    PolyEllipsoids {
+        radii: Radii,
+        /// In [1, 4], default 2.
+        aspect_ratio_max: f64,
+        packing: Packing,
+    },
+    /// `shape = "ellipsoid"`: ellipsoids whose semi-axes are drawn from the grains of
+    /// `grain_file` (CSV, relative to the scene file), packed by compaction.
+    Ellipsoids { grain_file: String },
+}
+
+/// The truncated normal radius distribution of a random packing (m).
+#[derive(Debug, Clone, Copy)]
+pub struct Radii {
+    /// Mean radius (m), > 0.
+    pub mean: f64,
+    /// Standard deviation (m), ≥ 0; 0 (the default): monodisperse.
+    pub sd: f64,
+    /// Smallest radius (m) the truncated normal may give, in (0, mean]; default mean − 3 sd
+    /// (at least 1% of the mean).
+    pub min: f64,
+    /// Largest radius (m) the truncated normal may give, ≥ mean; default mean + 3 sd.
+    pub max: f64,
+}
+
+/// How many grains a random packing has: `count`, `solid_fraction`, or both (then the box
+/// keeps its shape, scaled to the fraction).
+#[derive(Debug, Clone, Copy)]
+pub enum Amount {
+    /// Number of grains, ≥ 1.
+    Count(usize),
+    /// Grains are drawn until they fill this solid fraction of the box: in (0, 0.65] for the
+    /// geometric packing, (0, 0.9] for compaction.
+    SolidFraction(f64),
+    /// `count` grains, the box scaled to `solid_fraction`.
+    Both { count: usize, solid_fraction: f64 },
+}
+
+impl Amount {
+    pub fn count(self) -> Option<usize> {
+        match self {
+            Amount::Count(n) | Amount::Both { count: n, .. } => Some(n),
+            Amount::SolidFraction(_) => None,
+        }
+    }
+}
+
+/// `kind = "simple_cubic"` or `"hcp"`.
+#[derive(Debug, Clone, Copy)]
+pub struct LatticeSample {
+    /// Hexagonal close packed (`hcp`) rather than simple cubic.
+    pub hcp: bool,
+    /// The lattice radius (m), > 0 (`radius_mean`).
+    pub radius: f64,
+    /// Lattice layers [nx, ny, nz], each ≥ 1.
+    pub layers: [usize; 3],
+    /// Orientation of the spheres' principal directions; default "aligned".
+    pub orientations: Orientations,
+}
+
+/// `kind = "text"`, `"lammps_data"` or `"yade_text"`.
+#[derive(Debug, Clone)]
+pub struct FileSample {
+    /// Which of the three formats.
+    pub format: SampleKind,
+    /// Packing file, relative to the scene file.
+    pub file: String,
+    /// Box edge lengths [x, y, z] (m) when the file gives none.
     pub box_size: Option<[f64; 3]>,
-    /// Target solid fraction of the random packing (geometric packing, no overlaps).
-    pub solid_fraction: Option<f64>,
-    /// Confining pressure (Pa): after the geometric packing, servo-controlled walls compress
-    /// the sample until every wall carries this stress.
-    pub pressure: Option<f64>,
-    /// Friction coefficient while compacting to `pressure` (default: material.friction).
-    pub compaction_friction: Option<f64>,
-    /// Lattice layers [nx, ny, nz] (simple_cubic, hcp).
-    pub layers: Option<[usize; 3]>,
-    /// Packing file (text, lammps_data), relative to the scene file.
-    pub file: Option<String>,
-    /// Orientation of the grains' principal directions: "random" (uniform; the default for
-    /// random packings) or "aligned" with the box axes (the default for the other kinds).
-    pub orientations: Option<Orientations>,
-    /// Grain shape of random packings: "sphere" (default), "poly_ellipsoid" or "ellipsoid".
-    pub shape: Option<GrainShape>,
-    /// Ellipsoid assembly file (CSV, relative to the scene file) whose grains' semi-axes
-    /// `shape = "ellipsoid"` draws from.
-    pub grain_file: Option<String>,
-    /// How a random sample reaches `solid_fraction`: "geometric" (default for spheres and
-    /// poly-ellipsoids) or "compaction" (default for ellipsoids).
-    pub packing: Option<Packing>,
-    /// Poly-ellipsoids of random packings: each semi-axis is drawn uniformly in
-    /// [r / aspect_ratio_max, r] for a packed sphere of radius r; in [1, 4], default 2.
-    pub aspect_ratio_max: Option<f64>,
-    /// The grain of `kind = "single"`: semi-axes [a+, a-, b+, b-, c+, c-] (m) along the
-    /// grain's +x, -x, +y, -y, +z, -z.
-    pub semi_axes: Option<[f64; 6]>,
+    /// Orientation of the spheres' principal directions; default "aligned".
+    pub orientations: Orientations,
+}
+
+/// `kind = "single"`.
+#[derive(Debug, Clone, Copy)]
+pub struct SingleGrain {
+    /// Semi-axes [a+, a-, b+, b-, c+, c-] (m), each > 0, along the grain's +x, -x, +y, -y,
+    /// +z, -z.
+    pub semi_axes: [f64; 6],
+    /// Box edge lengths [x, y, z] (m); x and y exceed the grain's largest extent.
+    pub box_size: [f64; 3],
+    /// Orientation of the grain's principal directions; default "aligned".
+    pub orientations: Orientations,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Deserialize)]
@@ -174,46 +302,60 @@ pub enum LoadingKind {
     Platens,
 }
 
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct LoadingSpec {
-    pub kind: LoadingKind,
-    /// Axial engineering strain rate (1/s), > 0: the driven wall moves at rate × initial height.
-    pub strain_rate: Option<f64>,
-    /// Axial strain at which the run ends, in (0, 1).
-    pub end_strain: Option<f64>,
-    /// Duration of the run (s) for `kind = "none"`.
-    pub end_time: Option<f64>,
-    /// Speed (m/s) of the top platen, > 0.
-    pub speed: Option<f64>,
-    /// Platen travel (m) at which a `platens` run ends, > 0.
-    pub end_displacement: Option<f64>,
+/// How the walls move, one variant per `loading.kind`.
+#[derive(Debug, Clone, Copy)]
+pub enum LoadingSpec {
+    /// Walls stay where the sample put them.
+    None {
+        /// Duration of the run (s), > 0.
+        end_time: f64,
+    },
+    /// Oedometric compression: the top (+z) wall moves down at a constant strain rate, the
+    /// other five walls are fixed.
+    Oedometer {
+        /// Axial engineering strain rate (1/s), > 0: the driven wall moves at rate × initial
+        /// height.
+        strain_rate: f64,
+        /// Axial strain at which the run ends, in (0, 1).
+        end_strain: f64,
+    },
+    /// Flat platens: the top (+z) wall moves down, the bottom is fixed (single-grain
+    /// crushing).
+    Platens {
+        /// Speed (m/s) of the top platen, > 0.
+        speed: f64,
+        /// Platen travel (m) at which the run ends, > 0.
+        end_displacement: f64,
+    },
 }
 
 /// The walls of the container (same elastic material as the grains).
 #[derive(Debug, Clone, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct WallSpec {
-    /// Coulomb friction between grains and walls (default: material.friction); 0 models
+    /// Coulomb friction between grains and walls, ≥ 0 (default: material.friction); 0 models
     /// lubricated walls.
     pub friction: Option<f64>,
 }
 
-/// The granular model's tables of a scene.
-#[derive(Debug, Clone, Deserialize)]
-#[serde(deny_unknown_fields)]
+/// The granular model's tables of a scene, checked.
+#[derive(Debug, Clone)]
 pub struct GranularScene {
     pub material: Material,
     pub sample: SampleSpec,
     pub loading: LoadingSpec,
-    #[serde(default)]
     pub walls: WallSpec,
-    #[serde(default)]
     pub neighbor: NeighborSpec,
     /// Criteria, strength statistics, break planes and cohesion of breaking grains (used by
     /// the `fracture`, `weibull` and `cohesion` effects).
-    #[serde(default)]
     pub fracture: FractureSpec,
+}
+
+impl GranularScene {
+    /// The granular tables of `scene`, read and checked (the first failing key named).
+    pub fn read(scene: &Scene) -> Result<GranularScene> {
+        validate(scene, &scene.section()?)
+    }
 }
 
 /// The effects of the granular model.
@@ -226,389 +368,3 @@ pub const EFFECTS: [EffectKind; 7] = [
     EffectKind::Cohesion,
     EffectKind::Weibull,
 ];
-
-/// Range checks of a granular scene: each failure names the key, its value and the range.
-pub fn validate(s: &Scene, g: &GranularScene) -> Result<()> {
-    let m = &g.material;
-    check(s, "material.young", m.young, Range::POSITIVE, "Pa")?;
-    let nu = require(
-        s,
-        "material.poisson",
-        m.poisson,
-        "for model.kind = \"granular\"",
-    )?;
-    check(s, "material.poisson", nu, Range::open(-1.0, 0.5), "")?;
-    check(s, "material.density", m.density, Range::POSITIVE, "kg/m³")?;
-    check(s, "material.friction", m.friction, Range::NON_NEGATIVE, "")?;
-    check(
-        s,
-        "material.restitution",
-        m.restitution,
-        Range::open_closed(0.0, 1.0),
-        "",
-    )?;
-    validate_sample(s, &g.sample)?;
-    validate_effects(s)?;
-    validate_fracture(s, &g.fracture)?;
-    let l = &g.loading;
-    match l.kind {
-        LoadingKind::Oedometer => {
-            let why = "for loading.kind = \"oedometer\"";
-            let rate = require(s, "loading.strain_rate", l.strain_rate, why)?;
-            check(s, "loading.strain_rate", rate, Range::POSITIVE, "1/s")?;
-            let end = require(s, "loading.end_strain", l.end_strain, why)?;
-            check(s, "loading.end_strain", end, Range::open(0.0, 1.0), "")?;
-        }
-        LoadingKind::Platens => {
-            let why = "for loading.kind = \"platens\"";
-            let speed = require(s, "loading.speed", l.speed, why)?;
-            check(s, "loading.speed", speed, Range::POSITIVE, "m/s")?;
-            let travel = require(s, "loading.end_displacement", l.end_displacement, why)?;
-            check(s, "loading.end_displacement", travel, Range::POSITIVE, "m")?;
-        }
-        LoadingKind::None => {
-            let end = require(
-                s,
-                "loading.end_time",
-                l.end_time,
-                "for loading.kind = \"none\"",
-            )?;
-            check(s, "loading.end_time", end, Range::POSITIVE, "s")?;
-        }
-    }
-    if let Some(mu) = g.walls.friction {
-        check(s, "walls.friction", mu, Range::NON_NEGATIVE, "")?;
-    }
-    if let Some(skin) = g.neighbor.skin {
-        check(s, "neighbor.skin", skin, Range::POSITIVE, "m")?;
-    }
-    if let Some(strains) = &s.output.report_strains {
-        for &e in strains {
-            check(s, "output.report_strains", e, Range::open(0.0, 1.0), "")?;
-        }
-    }
-    Ok(())
-}
-
-/// The `[fracture]` keys, and what the fracture effects need.
-fn validate_fracture(s: &Scene, f: &FractureSpec) -> Result<()> {
-    check(s, "fracture.mi", f.mi, Range::POSITIVE, "")?;
-    check(s, "fracture.sigma_c", f.sigma_c, Range::POSITIVE, "Pa")?;
-    check(
-        s,
-        "fracture.weibull_modulus",
-        f.weibull_modulus,
-        Range::POSITIVE,
-        "",
-    )?;
-    check(
-        s,
-        "fracture.toughness",
-        f.toughness,
-        Range::POSITIVE,
-        "Pa m^0.5",
-    )?;
-    check(
-        s,
-        "fracture.critical_contacts",
-        f.critical_contacts as f64,
-        Range::closed(
-            crate::fracture::CRITICAL_CONTACTS.0 as f64,
-            crate::fracture::CRITICAL_CONTACTS.1 as f64,
-        ),
-        "",
-    )?;
-    check(
-        s,
-        "fracture.springs",
-        f.springs as f64,
-        Range::closed(
-            crate::fracture::SPRINGS.0 as f64,
-            crate::fracture::SPRINGS.1 as f64,
-        ),
-        "",
-    )?;
-    if let Some(v) = f.reference_strength {
-        check(s, "fracture.reference_strength", v, Range::POSITIVE, "Pa")?;
-    }
-    if let Some(v) = f.reference_radius {
-        check(s, "fracture.reference_radius", v, Range::POSITIVE, "m")?;
-    }
-    if s.has_effect(EffectKind::Fracture) {
-        require(
-            s,
-            "fracture.reference_strength",
-            f.reference_strength,
-            "with the \"fracture\" effect (the contact tensile strength)",
-        )?;
-    }
-    if s.has_effect(EffectKind::Weibull) {
-        require(
-            s,
-            "fracture.reference_radius",
-            f.reference_radius,
-            "with the \"weibull\" effect",
-        )?;
-    }
-    Ok(())
-}
-
-fn validate_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
-    let kind = p.kind.as_str();
-    let why = format!("for sample.kind = \"{kind}\"");
-    match p.kind {
-        SampleKind::Random if p.shape == Some(GrainShape::Ellipsoid) => {
-            validate_ellipsoid_sample(s, p)?;
-        }
-        SampleKind::Random => {
-            let mean = require(s, "sample.radius_mean", p.radius_mean, &why)?;
-            check(s, "sample.radius_mean", mean, Range::POSITIVE, "m")?;
-            let sd = p.radius_sd.unwrap_or(0.0);
-            check(s, "sample.radius_sd", sd, Range::NON_NEGATIVE, "m")?;
-            if let Some(rmin) = p.radius_min {
-                check(
-                    s,
-                    "sample.radius_min",
-                    rmin,
-                    Range::open_closed(0.0, mean),
-                    "m",
-                )?;
-            }
-            if let Some(rmax) = p.radius_max {
-                check(
-                    s,
-                    "sample.radius_max",
-                    rmax,
-                    Range::closed(mean, f64::INFINITY),
-                    "m",
-                )?;
-            }
-            let bx = require(s, "sample.box", p.box_size, &why)?;
-            for (axis, v) in ["x", "y", "z"].iter().zip(bx) {
-                if !Range::POSITIVE.contains(v) {
-                    return Err(s.key_error(
-                        "sample.box",
-                        format!("has {axis} edge {v}, outside the allowed range (0, ∞) m"),
-                    ));
-                }
-            }
-            if let Some(n) = p.count {
-                if n == 0 {
-                    return Err(
-                        s.key_error("sample.count", "= 0 is outside the allowed range [1, ∞)")
-                    );
-                }
-                check_bodies(s, "sample.count", n as f64, "spheres")?;
-            }
-            if let Some(phi) = p.solid_fraction {
-                check_solid_fraction(s, p, phi)?;
-                if p.count.is_none() {
-                    let grain = 4.0 / 3.0 * std::f64::consts::PI * mean.powi(3);
-                    let n = phi * bx[0] * bx[1] * bx[2] / grain;
-                    check_bodies(s, "sample.box", n, "spheres at that solid fraction")?;
-                }
-            }
-            if p.count.is_none() && p.solid_fraction.is_none() {
-                return Err(s.key_error(
-                    "sample.count",
-                    format!("or sample.solid_fraction is required {why}"),
-                ));
-            }
-            if let Some(pr) = p.pressure {
-                check(s, "sample.pressure", pr, Range::POSITIVE, "Pa")?;
-            }
-            if let Some(mu) = p.compaction_friction {
-                check(s, "sample.compaction_friction", mu, Range::NON_NEGATIVE, "")?;
-            }
-        }
-        SampleKind::SimpleCubic | SampleKind::Hcp => {
-            let r = require(s, "sample.radius_mean", p.radius_mean, &why)?;
-            check(s, "sample.radius_mean", r, Range::POSITIVE, "m")?;
-            let layers = require(s, "sample.layers", p.layers, &why)?;
-            if layers.contains(&0) {
-                return Err(s.key_error(
-                    "sample.layers",
-                    "has a zero entry; each of [nx, ny, nz] must be in [1, ∞)",
-                ));
-            }
-            let n = layers.iter().map(|&l| l as f64).product::<f64>();
-            check_bodies(s, "sample.layers", n, "spheres")?;
-        }
-        SampleKind::Text
-        | SampleKind::LammpsData
-        | SampleKind::YadeText
-        | SampleKind::EllipsoidAssembly => {
-            if p.file.is_none() {
-                return Err(s.key_error("sample.file", format!("is required {why}")));
-            }
-        }
-        SampleKind::Single => {
-            let semi = require(s, "sample.semi_axes", p.semi_axes, &why)?;
-            for v in semi {
-                if !Range::POSITIVE.contains(v) {
-                    return Err(s.key_error(
-                        "sample.semi_axes",
-                        format!("has {v}, outside the allowed range (0, ∞) m"),
-                    ));
-                }
-            }
-            let bx = require(s, "sample.box", p.box_size, &why)?;
-            let width = 2.0 * semi.iter().copied().fold(0.0, f64::max);
-            for (axis, v) in ["x", "y"].iter().zip(bx) {
-                if v <= width {
-                    return Err(s.key_error(
-                        "sample.box",
-                        format!(
-                            "has {axis} edge {v} m, which must exceed the grain's largest extent {width} m"
-                        ),
-                    ));
-                }
-            }
-        }
-    }
-    if let Some(a) = p.aspect_ratio_max {
-        check(s, "sample.aspect_ratio_max", a, Range::closed(1.0, 4.0), "")?;
-    }
-    let shape = match p.shape {
-        Some(GrainShape::PolyEllipsoid) => Some("poly_ellipsoid"),
-        Some(GrainShape::Ellipsoid) => Some("ellipsoid"),
-        _ => None,
-    };
-    if let (Some(shape), true) = (shape, p.kind != SampleKind::Random) {
-        return Err(s.key_error(
-            "sample.shape",
-            format!("= \"{shape}\" applies to sample.kind = \"random\" only, not \"{kind}\""),
-        ));
-    }
-    if p.grain_file.is_some() && p.shape != Some(GrainShape::Ellipsoid) {
-        return Err(s.key_error(
-            "sample.grain_file",
-            "applies to sample.shape = \"ellipsoid\" only (the grains' semi-axes are drawn from it)",
-        ));
-    }
-    if let (Some(packing), true) = (p.packing, p.kind != SampleKind::Random) {
-        return Err(s.key_error(
-            "sample.packing",
-            format!(
-                "= \"{}\" applies to sample.kind = \"random\" only, not \"{kind}\"",
-                packing.as_str()
-            ),
-        ));
-    }
-    if p.shape == Some(GrainShape::Ellipsoid) && p.packing == Some(Packing::Geometric) {
-        return Err(s.key_error(
-            "sample.packing",
-            "= \"geometric\" packs spheres only; ellipsoid grains reach their solid fraction by \"compaction\"",
-        ));
-    }
-    Ok(())
-}
-
-/// The method a random sample reaches its solid fraction by.
-pub fn packing(p: &SampleSpec) -> Packing {
-    p.packing
-        .unwrap_or(if p.shape == Some(GrainShape::Ellipsoid) {
-            Packing::Compaction
-        } else {
-            Packing::Geometric
-        })
-}
-
-/// The solid fractions each packing method may be asked for: growth without overlap stops
-/// near random close packing (0.65 is above what it reaches in any box); frictionless
-/// compaction reports where the grains jam, so only fractions a packing cannot hold at all
-/// (0.9) are refused here.
-fn check_solid_fraction(s: &Scene, p: &SampleSpec, phi: f64) -> Result<()> {
-    let top = match packing(p) {
-        Packing::Geometric => 0.65,
-        Packing::Compaction => 0.9,
-    };
-    check(
-        s,
-        "sample.solid_fraction",
-        phi,
-        Range::open_closed(0.0, top),
-        &format!("for sample.packing = \"{}\"", packing(p).as_str()),
-    )
-}
-
-/// A random sample of ellipsoid grains: sizes come from `grain_file`, so the radius keys do
-/// not apply.
-fn validate_ellipsoid_sample(s: &Scene, p: &SampleSpec) -> Result<()> {
-    let why = "for sample.shape = \"ellipsoid\"";
-    for (key, v) in [
-        ("sample.radius_mean", p.radius_mean),
-        ("sample.radius_sd", p.radius_sd),
-        ("sample.radius_min", p.radius_min),
-        ("sample.radius_max", p.radius_max),
-        ("sample.aspect_ratio_max", p.aspect_ratio_max),
-    ] {
-        if v.is_some() {
-            return Err(s.key_error(
-                key,
-                "does not apply with sample.shape = \"ellipsoid\": the grains' semi-axes are drawn from sample.grain_file",
-            ));
-        }
-    }
-    require(s, "sample.grain_file", p.grain_file.as_ref(), why)?;
-    let bx = require(s, "sample.box", p.box_size, why)?;
-    for (axis, v) in ["x", "y", "z"].iter().zip(bx) {
-        if !Range::POSITIVE.contains(v) {
-            return Err(s.key_error(
-                "sample.box",
-                format!("has {axis} edge {v}, outside the allowed range (0, ∞) m"),
-            ));
-        }
-    }
-    match (p.count, p.solid_fraction) {
-        (Some(0), _) => {
-            return Err(s.key_error("sample.count", "= 0 is outside the allowed range [1, ∞)"));
-        }
-        (Some(n), _) => check_bodies(s, "sample.count", n as f64, "grains")?,
-        (None, None) => {
-            return Err(s.key_error(
-                "sample.count",
-                format!("or sample.solid_fraction is required {why}"),
-            ));
-        }
-        _ => {}
-    }
-    if let Some(phi) = p.solid_fraction {
-        check_solid_fraction(s, p, phi)?;
-    }
-    if let Some(pr) = p.pressure {
-        check(s, "sample.pressure", pr, Range::POSITIVE, "Pa")?;
-    }
-    if let Some(mu) = p.compaction_friction {
-        check(s, "sample.compaction_friction", mu, Range::NON_NEGATIVE, "")?;
-    }
-    Ok(())
-}
-
-/// Effects that act on something another effect builds.
-fn validate_effects(s: &Scene) -> Result<()> {
-    for (effect, needs) in [
-        (EffectKind::Cohesion, EffectKind::Fracture),
-        (EffectKind::Weibull, EffectKind::Fracture),
-    ] {
-        if s.has_effect(effect) && !s.has_effect(needs) {
-            return Err(s.key_error(
-                "effects",
-                format!(
-                    "lists \"{}\" without \"{}\"; it acts on breaking grains, so add \"{}\"",
-                    effect.as_str(),
-                    needs.as_str(),
-                    needs.as_str()
-                ),
-            ));
-        }
-    }
-    for needs_contact in [
-        EffectKind::Damping,
-        EffectKind::Friction,
-        EffectKind::Fracture,
-    ] {
-        s.requires_contact(needs_contact)?;
-    }
-    Ok(())
-}

@@ -9,7 +9,7 @@ use super::{
 };
 use crate::contact::polyhedron::{GroundContact, Surface};
 use crate::error::Result;
-use crate::models::dlsm::scene::{LoadBy, LoadingSpec};
+use crate::models::dlsm::scene::{BrazilianSpec, LoadBy};
 use crate::probe::Series;
 use crate::sample::voronoi::{Boundary, Domain};
 use crate::shape::polyhedron::Polyhedron;
@@ -101,8 +101,8 @@ impl Brazilian {
     /// The Brazilian test of a `voronoi_disc` sample, loaded as `loading.load_by` says: the
     /// elements of the loading arcs (none empty where they carry the load), the platens or
     /// jaws placed touching the disc, or the arcs' pressure.
-    pub fn build(s: &Setting) -> Result<Self> {
-        let (l, sample) = (s.spec(), s.sample);
+    pub fn build(s: &Setting, l: &BrazilianSpec) -> Result<Self> {
+        let sample = s.sample;
         let Domain::Disc {
             diameter,
             thickness,
@@ -114,7 +114,7 @@ impl Brazilian {
             ));
         };
         let radius = 0.5 * diameter;
-        let half_angle = 0.5 * l.arc_degrees.unwrap_or(0.0).to_radians();
+        let half_angle = 0.5 * l.arc_degrees.to_radians();
         // Flat loading still needs elements to push: those within half an element of
         // the top (bottom) of the disc.
         let reach = half_angle.max(0.5 * sample.info.element_size / radius);
@@ -137,15 +137,14 @@ impl Brazilian {
         top.dedup();
         bottom.sort_unstable();
         bottom.dedup();
-        let by = l.load_by.unwrap_or(LoadBy::Elements);
+        let by = l.load_by;
         // Prescribed elements and the arc pressure act on elements of the arcs; platens
         // find what they touch themselves.
         if !by.presses() {
             s.nonempty(&top, "the top loading arc")?;
             s.nonempty(&bottom, "the bottom loading arc")?;
         }
-        let speed = l.speed.expect("validated");
-        let end = l.end_strain.expect("validated");
+        let (speed, end) = (l.speed, l.end_strain);
         let gap = s.mean(&top, 1) - s.mean(&bottom, 1);
         // Flat platens, or jaws of radius JAW_RADIUS R about z, touching the disc's
         // highest and lowest vertices, their contacts as stiff as a cohesive contact of a
@@ -232,7 +231,7 @@ impl Brazilian {
             bottom,
             gap,
             reaction: [0.0; 2],
-            stop_fraction: s.stop(),
+            stop_fraction: s.stop(l.stop_fraction),
             tensile_strength: s.strength(),
             platens,
             platen_start,
@@ -241,36 +240,23 @@ impl Brazilian {
     }
 
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table.
-    pub fn describe(l: &LoadingSpec) -> String {
+    pub fn describe(l: &BrazilianSpec) -> String {
+        let (speed, end, arc) = (l.speed, l.end_strain, l.arc_degrees);
         match l.load_by {
-            Some(LoadBy::FlatPlatens) => format!(
-                "Brazilian test between two rigid flat platens (frictional contacts), {} m/s per side to diametral strain {}, force read on the platens (Eq. 46)",
-                l.speed.unwrap_or(0.0),
-                l.end_strain.unwrap_or(0.0)
+            LoadBy::FlatPlatens => format!(
+                "Brazilian test between two rigid flat platens (frictional contacts), {speed} m/s per side to diametral strain {end}, force read on the platens (Eq. 46)"
             ),
-            Some(LoadBy::CurvedJaws) => format!(
-                "Brazilian test between two rigid curved jaws of radius {JAW_RADIUS} R (frictional contacts), {} m/s per side to diametral strain {}, force read on the jaws (Eq. 46, and Eq. 48 at the contact arc they make)",
-                l.speed.unwrap_or(0.0),
-                l.end_strain.unwrap_or(0.0)
+            LoadBy::CurvedJaws => format!(
+                "Brazilian test between two rigid curved jaws of radius {JAW_RADIUS} R (frictional contacts), {speed} m/s per side to diametral strain {end}, force read on the jaws (Eq. 46, and Eq. 48 at the contact arc they make)"
             ),
-            Some(LoadBy::ArcPressure) => {
-                let arc = l.arc_degrees.unwrap_or(0.0);
-                format!(
-                    "Brazilian test, a uniform radial pressure over loading arcs of {arc} degrees (k = {:.4}, Eq. 47) set by a servo on their closure, commanded at {} m/s per side to diametral strain {}; the disc's rigid motions held",
-                    arc_factor(0.5 * arc.to_radians()),
-                    l.speed.unwrap_or(0.0),
-                    l.end_strain.unwrap_or(0.0)
-                )
-            }
-            Some(LoadBy::Elements) | None => {
-                let arc = l.arc_degrees.unwrap_or(0.0);
-                format!(
-                    "Brazilian test, the elements of a loading arc of {arc} degrees driven (k = {:.4}, Eq. 47), {} m/s per side to diametral strain {}",
-                    arc_factor(0.5 * arc.to_radians()),
-                    l.speed.unwrap_or(0.0),
-                    l.end_strain.unwrap_or(0.0)
-                )
-            }
+            LoadBy::ArcPressure => format!(
+                "Brazilian test, a uniform radial pressure over loading arcs of {arc} degrees (k = {:.4}, Eq. 47) set by a servo on their closure, commanded at {speed} m/s per side to diametral strain {end}; the disc's rigid motions held",
+                arc_factor(0.5 * arc.to_radians())
+            ),
+            LoadBy::Elements => format!(
+                "Brazilian test, the elements of a loading arc of {arc} degrees driven (k = {:.4}, Eq. 47), {speed} m/s per side to diametral strain {end}",
+                arc_factor(0.5 * arc.to_radians())
+            ),
         }
     }
 }

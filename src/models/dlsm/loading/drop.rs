@@ -6,7 +6,7 @@ use serde_json::{Map, Value};
 
 use super::{Loading, RowInputs, Setting, extent_along};
 use crate::error::Result;
-use crate::models::dlsm::scene::LoadingSpec;
+use crate::models::dlsm::scene::DropSpec;
 use crate::probe::Series;
 use crate::scene::EffectKind;
 use crate::state::Vec3;
@@ -36,13 +36,13 @@ impl Drop {
     /// The ground under the sample, inclined `loading.ground_angle_degrees` about y and
     /// `loading.drop_height` (m) below its lowest vertex, and the gravity the scene's
     /// `gravity` effect applies (zero without it).
-    pub fn build(s: &Setting) -> Result<Self> {
-        let (l, sample, scene) = (s.spec(), s.sample, s.scene);
-        let angle = l.ground_angle_degrees.unwrap_or(0.0).to_radians();
+    pub fn build(s: &Setting, l: &DropSpec) -> Result<Self> {
+        let (sample, scene) = (s.sample, s.scene);
+        let angle = l.ground_angle_degrees.to_radians();
         let normal = Vec3::new(angle.sin(), 0.0, angle.cos());
         let downslope = Vec3::new(angle.cos(), 0.0, -angle.sin());
         let (lowest, highest) = extent_along(sample, &normal);
-        let ground_point = normal * (lowest - l.drop_height.unwrap_or(0.0));
+        let ground_point = normal * (lowest - l.drop_height);
         let total: f64 = sample.bodies.mass.iter().sum();
         let centre = sample
             .bodies
@@ -58,7 +58,7 @@ impl Drop {
             Vec3::zeros()
         };
         Ok(Drop {
-            end_time: l.end_time.expect("validated"),
+            end_time: l.end_time,
             ground_point,
             ground_normal: normal,
             downslope,
@@ -73,12 +73,10 @@ impl Drop {
     }
 
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table.
-    pub fn describe(l: &LoadingSpec) -> String {
+    pub fn describe(l: &DropSpec) -> String {
         format!(
             "drop at {:?} m/s onto a ground inclined {} degrees, for {:e} s",
-            l.initial_velocity.unwrap_or([0.0; 3]),
-            l.ground_angle_degrees.unwrap_or(0.0),
-            l.end_time.unwrap_or(0.0)
+            l.initial_velocity, l.ground_angle_degrees, l.end_time
         )
     }
 }

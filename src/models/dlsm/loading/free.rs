@@ -2,9 +2,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::{Loading, RowInputs, Setting};
-use crate::error::Result;
-use crate::models::dlsm::scene::LoadingSpec;
+use super::{Loading, RowInputs};
 
 /// Nothing prescribed for `end_time` seconds.
 #[derive(Debug, Clone, Serialize, Deserialize)]
@@ -14,19 +12,9 @@ pub struct Free {
 }
 
 impl Free {
-    /// The loading of `loading.kind = "none"`.
-    pub fn build(s: &Setting) -> Result<Self> {
-        Ok(Free {
-            end_time: s.spec().end_time.expect("validated"),
-        })
-    }
-
-    /// The loading as `fractum explain` states it, from the scene's `[loading]` table.
-    pub fn describe(l: &LoadingSpec) -> String {
-        format!(
-            "none: nothing prescribed for {:e} s",
-            l.end_time.unwrap_or(0.0)
-        )
+    /// The loading as `fractum explain` states it, from `loading.end_time` (s).
+    pub fn describe(end_time: f64) -> String {
+        format!("none: nothing prescribed for {end_time:e} s")
     }
 }
 

@@ -5,7 +5,7 @@ use serde_json::{Map, Value};
 
 use super::{Loading, RowInputs, Setting, mean_of};
 use crate::error::Result;
-use crate::models::dlsm::scene::{LoadingSpec, VibrationMode};
+use crate::models::dlsm::scene::{SampleShape, VibrationMode, VibrationSpec};
 use crate::probe::Series;
 use crate::probe::spectrum::dominant_frequency;
 use crate::sample::voronoi::Boundary;
@@ -31,24 +31,29 @@ pub struct FreeVibration {
 impl FreeVibration {
     /// The free vibration of a bar: its clamped x− and watched x+ elements, none empty, and
     /// the frequency Eq. 44 (tension) or Eq. 45 (torsion) gives.
-    pub fn build(s: &Setting) -> Result<Self> {
-        let (l, m, sample) = (s.spec(), &s.cfg.material, s.sample);
+    pub fn build(s: &Setting, l: &VibrationSpec) -> Result<Self> {
+        let (m, sample) = (&s.cfg.material, s.sample);
         // The bar's length: the sample was made longer by the clamp's grip.
-        let length = s.cfg.sample.length.expect("validated");
-        let mode = l.mode.expect("validated");
+        let SampleShape::Cylinder { length, .. } = s.cfg.sample.shape else {
+            return Err(s.scene.key_error(
+                "loading.kind",
+                "= \"free_vibration\" needs sample.kind = \"voronoi_cylinder\"",
+            ));
+        };
+        let mode = l.mode;
         let clamped = sample.elements_on(Boundary::XMin);
         let free = sample.elements_on(Boundary::XMax);
         s.nonempty(&clamped, "x-")?;
         s.nonempty(&free, "x+")?;
         let shear = m.young / (2.0 * (1.0 + m.poisson));
-        let (amplitude, modulus) = match mode {
-            VibrationMode::Tension => (l.initial_strain.unwrap_or(1e-5), m.young),
-            VibrationMode::Torsion => (l.twist.unwrap_or(1e-4), shear),
+        let modulus = match mode {
+            VibrationMode::Tension => m.young,
+            VibrationMode::Torsion => shear,
         };
         Ok(FreeVibration {
             mode,
-            amplitude,
-            end_time: l.end_time.expect("validated"),
+            amplitude: l.amplitude,
+            end_time: l.end_time,
             length,
             clamped,
             free,
@@ -58,11 +63,12 @@ impl FreeVibration {
     }
 
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table.
-    pub fn describe(l: &LoadingSpec) -> String {
+    pub fn describe(l: &VibrationSpec) -> String {
+        // `Some(..)`: the words explain has always printed, from the optional key.
         format!(
             "free vibration from a static {:?} field, x- clamped, for {:e} s",
-            l.mode,
-            l.end_time.unwrap_or(0.0)
+            Some(l.mode),
+            l.end_time
         )
     }
 

@@ -24,7 +24,7 @@ pub use free_vibration::FreeVibration;
 pub use tension::Tension;
 
 use super::sample::DlsmSample;
-use super::scene::{DlsmScene, LoadingKind, LoadingSpec};
+use super::scene::{DlsmScene, LoadingSpec};
 use crate::error::Result;
 use crate::probe::Series;
 use crate::scene::{EffectKind, Scene};
@@ -107,11 +107,6 @@ pub struct Setting<'a> {
 }
 
 impl Setting<'_> {
-    /// The scene's `[loading]` table.
-    pub fn spec(&self) -> &LoadingSpec {
-        &self.cfg.loading
-    }
-
     /// With `fracture`: the material's tensile strength (Pa), which the loading watches for
     /// the specimen's failure.
     pub fn strength(&self) -> Option<f64> {
@@ -122,9 +117,9 @@ impl Setting<'_> {
         }
     }
 
-    /// `loading.stop_fraction`, or its default.
-    pub fn stop(&self) -> f64 {
-        self.spec().stop_fraction.unwrap_or(DEFAULT_STOP)
+    /// `loading.stop_fraction` (`given`), or its default.
+    pub fn stop(&self, given: Option<f64>) -> f64 {
+        given.unwrap_or(DEFAULT_STOP)
     }
 
     /// The mean coordinate `axis` (m) of a set of elements' positions (0 for none).
@@ -216,24 +211,26 @@ pub enum DlsmLoading {
 impl DlsmLoading {
     /// The loading of a dlsm scene on its sample.
     pub fn build(s: &Setting) -> Result<Self> {
-        Ok(match s.spec().kind {
-            LoadingKind::Tension => DlsmLoading::Tension(Tension::build(s)?),
-            LoadingKind::FreeVibration => DlsmLoading::FreeVibration(FreeVibration::build(s)?),
-            LoadingKind::Brazilian => DlsmLoading::Brazilian(Brazilian::build(s)?),
-            LoadingKind::Drop => DlsmLoading::Drop(Drop::build(s)?),
-            LoadingKind::None => DlsmLoading::Free(Free::build(s)?),
+        Ok(match &s.cfg.loading {
+            LoadingSpec::Tension(l) => DlsmLoading::Tension(Tension::build(s, l)?),
+            LoadingSpec::FreeVibration(l) => {
+                DlsmLoading::FreeVibration(FreeVibration::build(s, l)?)
+            }
+            LoadingSpec::Brazilian(l) => DlsmLoading::Brazilian(Brazilian::build(s, l)?),
+            LoadingSpec::Drop(l) => DlsmLoading::Drop(Drop::build(s, l)?),
+            &LoadingSpec::None { end_time } => DlsmLoading::Free(Free { end_time }),
         })
     }
 
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table (the
     /// sample is not built to explain it).
     pub fn describe(l: &LoadingSpec) -> String {
-        match l.kind {
-            LoadingKind::Tension => Tension::describe(l),
-            LoadingKind::FreeVibration => FreeVibration::describe(l),
-            LoadingKind::Brazilian => Brazilian::describe(l),
-            LoadingKind::Drop => Drop::describe(l),
-            LoadingKind::None => Free::describe(l),
+        match l {
+            LoadingSpec::Tension(l) => Tension::describe(l),
+            LoadingSpec::FreeVibration(l) => FreeVibration::describe(l),
+            LoadingSpec::Brazilian(l) => Brazilian::describe(l),
+            LoadingSpec::Drop(l) => Drop::describe(l),
+            &LoadingSpec::None { end_time } => Free::describe(end_time),
         }
     }
 

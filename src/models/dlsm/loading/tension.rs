@@ -5,7 +5,7 @@ use serde_json::{Map, Value};
 
 use super::{DEFAULT_RAMP, Loading, RowInputs, Setting, load_fell, mean_of, ramp_factor};
 use crate::error::Result;
-use crate::models::dlsm::scene::{Grip, LoadingSpec};
+use crate::models::dlsm::scene::{Grip, TensionSpec};
 use crate::probe::Series;
 use crate::probe::fit::least_squares_slope;
 use crate::sample::voronoi::{BOX_FACES, Domain};
@@ -43,8 +43,8 @@ pub struct Tension {
 
 impl Tension {
     /// The tension test of a `voronoi_box` sample: its six face sets, none empty.
-    pub fn build(s: &Setting) -> Result<Self> {
-        let (l, sample) = (s.spec(), s.sample);
+    pub fn build(s: &Setting, l: &TensionSpec) -> Result<Self> {
+        let sample = s.sample;
         let Domain::Box { lo, hi } = sample.domain else {
             return Err(s.scene.key_error(
                 "loading.kind",
@@ -57,8 +57,7 @@ impl Tension {
             s.nonempty(set, name)?;
         }
         let gauge = [0, 1, 2].map(|a| s.mean(&faces[2 * a + 1], a) - s.mean(&faces[2 * a], a));
-        let rate = l.strain_rate.expect("validated");
-        let end = l.end_strain.expect("validated");
+        let (rate, end) = (l.strain_rate, l.end_strain);
         let middle = (0..sample.bodies.len() as u32)
             .filter(|&i| {
                 let x = (sample.bodies.pos[i as usize].x - lo.x) / size.x;
@@ -83,18 +82,17 @@ impl Tension {
             gauge,
             middle,
             reaction: [0.0; 2],
-            stop_fraction: s.stop(),
+            stop_fraction: s.stop(l.stop_fraction),
             tensile_strength: s.strength(),
-            grip: l.grip.unwrap_or_default(),
+            grip: l.grip,
         })
     }
 
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table.
-    pub fn describe(l: &LoadingSpec) -> String {
+    pub fn describe(l: &TensionSpec) -> String {
         format!(
             "tension: x- and x+ face elements pulled apart at {} 1/s to strain {}",
-            l.strain_rate.unwrap_or(0.0),
-            l.end_strain.unwrap_or(0.0)
+            l.strain_rate, l.end_strain
         )
     }
 }

@@ -87,7 +87,7 @@ fn lammps_model(plan: &RunPlan, mu: f64) -> String {
         "hertz/material {:e} {:.17e} {:e} {tangential} {damping} limit_damping",
         m.young,
         lammps_restitution(c),
-        m.poisson()
+        m.poisson
     )
 }
 

@@ -196,7 +196,7 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
             lo = -margin
         );
     }
-    let mut coeff = format!("young {:e} poisson {:e}", m.young, m.poisson());
+    let mut coeff = format!("young {:e} poisson {:e}", m.young, m.poisson);
     if plan.has(EffectKind::Damping) {
         let _ = write!(coeff, " restitution {:e}", m.restitution);
     }
