@@ -64,10 +64,12 @@ impl FreeVibration {
 
     /// The loading as `fractum explain` states it, from the scene's `[loading]` table.
     pub fn describe(l: &VibrationSpec) -> String {
-        // `Some(..)`: the words explain has always printed, from the optional key.
+        let mode = match l.mode {
+            VibrationMode::Tension => "tension",
+            VibrationMode::Torsion => "torsion",
+        };
         format!(
-            "free vibration from a static {:?} field, x- clamped, for {:e} s",
-            Some(l.mode),
+            "free vibration from a static {mode} field (loading.mode = \"{mode}\"), x- clamped, for {:e} s",
             l.end_time
         )
     }
