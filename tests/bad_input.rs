@@ -831,3 +831,25 @@ fn a_resealed_checkpoint_with_a_nan_inside_is_refused_not_a_panic() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn compaction_pressure_of_any_sample_kind_names_its_range() {
+    // `pressure` compacts lattices and files too; there its range went unchecked.
+    let file = common::repo().join("scenes").join("shpb_hcp.toml");
+    let text = std::fs::read_to_string(&file).unwrap();
+    fails(
+        &text,
+        &["--set", "sample.pressure=-1e6"],
+        &["sample.pressure", "(0, ∞)"],
+    );
+    fails(
+        &text,
+        &[
+            "--set",
+            "sample.pressure=1e6",
+            "--set",
+            "sample.compaction_friction=-0.1",
+        ],
+        &["sample.compaction_friction", "[0, ∞)"],
+    );
+}

@@ -466,7 +466,14 @@ fn validate_sample(s: &Scene, p: &SampleSpec, friction: f64) -> Result<typed::Sa
             "= \"geometric\" packs spheres only; ellipsoid grains reach their solid fraction by \"compaction\"",
         ));
     }
-    // `pressure` compacts every kind of sample; its range is checked for random ones (above).
+    // `pressure` compacts every kind of sample (random ones are checked above, in their order;
+    // the others here: a negative pressure used to reach the compaction unchecked).
+    if let Some(pr) = p.pressure {
+        check(s, "sample.pressure", pr, Range::POSITIVE, "Pa")?;
+    }
+    if let Some(mu) = p.compaction_friction {
+        check(s, "sample.compaction_friction", mu, Range::NON_NEGATIVE, "")?;
+    }
     let compaction = p.pressure.map(|pressure| PressureCompaction {
         pressure,
         friction: p.compaction_friction.unwrap_or(friction),
