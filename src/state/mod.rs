@@ -338,6 +338,7 @@ impl Body {
     /// arrays, the kernels' FractumBody): centre `pos` (m), orientation (body to world; the
     /// body frame is the principal frame of inertia), bounding radius (m), mass (kg), the
     /// principal moments of inertia (kg·m²) and the shape.
+    #[inline]
     pub fn rigid(
         pos: Vec3,
         orientation: UnitQuaternion<f64>,

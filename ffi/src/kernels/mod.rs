@@ -139,17 +139,21 @@ fn body_in(b: &FractumBody) -> Result<Body, FractumStatus> {
             to_body: quat(&b.to_body),
         }
     };
-    let mut body = Body::rigid(
-        Vec3::from(b.pos),
-        quat(&b.quat),
-        b.radius,
-        b.mass,
-        Vec3::from(b.inertia),
+    // Field by field rather than through Body::rigid (at rest, then moving): this runs for
+    // every body of every evaluation, and the plugin's window measured 2% slower that way.
+    let inertia = Vec3::from(b.inertia);
+    Ok(Body {
+        pos: Vec3::from(b.pos),
+        vel: Vec3::from(b.vel),
+        omega: Vec3::from(b.omega),
+        orientation: quat(&b.quat),
+        radius: b.radius,
+        mass: b.mass,
+        inv_mass: 1.0 / b.mass,
+        inertia,
+        inv_inertia: inertia.map(|m| 1.0 / m),
         shape,
-    );
-    body.vel = Vec3::from(b.vel);
-    body.omega = Vec3::from(b.omega);
-    Ok(body)
+    })
 }
 
 /// A grain to split: a body whose radius and mass are finite and positive. A zero-radius
