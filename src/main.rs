@@ -113,6 +113,10 @@ enum BenchWhat {
         /// No progress bar and no messages.
         #[arg(long)]
         quiet: bool,
+        /// Runs nothing: draws accuracy_cost.svg/.png into --out from this accuracy_cost.csv
+        /// (after rows were rerun and merged into it).
+        #[arg(long, value_name = "CSV")]
+        replot: Option<PathBuf>,
     },
 }
 
@@ -216,11 +220,21 @@ fn dispatch(command: Command) -> Result<(), Error> {
         Command::Bench {
             what:
                 Some(BenchWhat::Accuracy {
+                    replot: Some(table),
+                    out,
+                    ..
+                }),
+            ..
+        } => fractum::accuracy::replot(&table, &out),
+        Command::Bench {
+            what:
+                Some(BenchWhat::Accuracy {
                     cases,
                     quick,
                     out,
                     threads,
                     quiet,
+                    replot: None,
                 }),
             ..
         } => accuracy(&cases, quick, &out, threads, quiet),

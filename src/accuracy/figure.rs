@@ -33,6 +33,7 @@ const COLOURS: [RGBColor; 12] = [
 type Point = (f64, f64, usize, bool);
 
 /// A case's points.
+#[derive(Debug, PartialEq)]
 pub struct Curve {
     pub label: String,
     pub points: Vec<Point>,
@@ -53,6 +54,59 @@ pub fn curves(cases: &[&Case], rows: &[Row]) -> Vec<Curve> {
         })
         .filter(|c| !c.points.is_empty())
         .collect()
+}
+
+/// The curves of an accuracy_cost.csv ([`super::csv`]'s columns), cases in the order of their
+/// first row: what [`curves`] gives for the rows it was written from. A row that does not
+/// read is named by its line.
+pub fn curves_from_csv(text: &str) -> std::result::Result<Vec<Curve>, String> {
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap_or("").split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .ok_or_else(|| format!("has no `{name}` column in its header"))
+    };
+    let [case, role, threads, error, wall, pareto] =
+        ["case", "role", "threads", "error", "wall_seconds", "pareto"].map(column);
+    let (case, role, threads, error, wall, pareto) =
+        (case?, role?, threads?, error?, wall?, pareto?);
+    let mut curves: Vec<Curve> = Vec::new();
+    for (k, line) in lines.enumerate() {
+        let ln = k + 2;
+        // The note, last and quoted, may hold commas; the columns before it do not.
+        let fields: Vec<&str> = line.splitn(header.len(), ',').collect();
+        if fields.len() < header.len() - 1 {
+            return Err(format!(
+                "line {ln}: {} columns, the header has {}",
+                fields.len(),
+                header.len()
+            ));
+        }
+        if fields[role] == "reference" || fields[error].is_empty() {
+            continue;
+        }
+        let number = |c: usize| {
+            fields[c]
+                .parse::<f64>()
+                .map_err(|_| format!("line {ln}: `{}` is not a number ({})", fields[c], header[c]))
+        };
+        let point = (
+            number(wall)?,
+            number(error)?,
+            number(threads)? as usize,
+            fields[pareto] == "true",
+        );
+        match curves.iter_mut().find(|c| c.label == fields[case]) {
+            Some(c) => c.points.push(point),
+            None => curves.push(Curve {
+                label: fields[case].to_string(),
+                points: vec![point],
+            }),
+        }
+    }
+    Ok(curves)
 }
 
 fn range(values: impl Iterator<Item = f64>, floor: f64) -> (f64, f64) {

@@ -559,6 +559,26 @@ pub fn write_outputs(dir: &Path, cases: &[&Case], rows: &[Row], quick: bool) -> 
     Ok(())
 }
 
+/// Draws accuracy_cost.svg and accuracy_cost.png into `dir` from an accuracy_cost.csv (after
+/// rows were rerun and merged into it, say), each file atomically; runs nothing.
+pub fn replot(csv_path: &Path, dir: &Path) -> Result<()> {
+    let text = std::fs::read_to_string(csv_path)
+        .map_err(|e| Error::io(csv_path, "read the accuracy table", e))?;
+    let curves = figure::curves_from_csv(&text)
+        .map_err(|m| Error::input(&csv_path.display().to_string(), m))?;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "create the output folder", e))?;
+    let title = "What accuracy costs";
+    write_atomic(
+        &dir.join("accuracy_cost.svg"),
+        figure::svg(title, &curves)?.as_bytes(),
+    )?;
+    write_atomic(
+        &dir.join("accuracy_cost.png"),
+        &figure::png(title, &curves)?,
+    )?;
+    Ok(())
+}
+
 /// Advances `run` to its end and returns its summary.
 pub fn finish(run: &mut dyn Run) -> Result<serde_json::Value> {
     while !run.finished() {
@@ -602,6 +622,27 @@ mod tests {
             pareto: false,
             note: String::new(),
         }
+    }
+
+    #[test]
+    fn the_figure_drawn_again_from_the_csv_has_the_points_of_its_rows() {
+        let mut rows = vec![
+            row("a", Some(0.1), 1.0),
+            row("b", Some(0.5), 10.0),
+            row("a", Some(0.01), 3.0),
+            row("a", None, 0.5),
+        ];
+        rows[1].threads = 2;
+        rows[3].note = "stopped, at a step too long".to_string();
+        let mut reference = row("b", Some(0.0), 20.0);
+        reference.is_reference = true;
+        rows.push(reference);
+        mark_pareto(&mut rows);
+        let again = figure::curves_from_csv(&csv(&rows)).unwrap();
+        let labels: Vec<&str> = again.iter().map(|c| c.label.as_str()).collect();
+        assert_eq!(labels, ["a", "b"]);
+        assert_eq!(again[0].points, [(1.0, 0.1, 1, true), (3.0, 0.01, 1, true)]);
+        assert_eq!(again[1].points, [(10.0, 0.5, 2, true)]);
     }
 
     #[test]
