@@ -565,7 +565,7 @@ pub fn replot(csv_path: &Path, dir: &Path) -> Result<()> {
     let text = std::fs::read_to_string(csv_path)
         .map_err(|e| Error::io(csv_path, "read the accuracy table", e))?;
     let curves = figure::curves_from_csv(&text)
-        .map_err(|m| Error::input(&csv_path.display().to_string(), m))?;
+        .map_err(|m| Error::input(csv_path.display().to_string(), m))?;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "create the output folder", e))?;
     let title = "What accuracy costs";
     write_atomic(
