@@ -348,7 +348,6 @@ impl GrainFracture {
         )
     }
 
-    /// Grains of the sample that have broken.
     /// Each grain's load from the last check (the force evaluation of the step before it),
     /// by grain index: zero for grains held by intact springs (not checked) and for grains
     /// made by that check's splits; empty before the first check, and after a restore until
@@ -357,6 +356,7 @@ impl GrainFracture {
         &self.loads
     }
 
+    /// Grains of the sample that have broken.
     pub fn broken_particles(&self) -> usize {
         self.broken.iter().filter(|&&b| b).count()
     }

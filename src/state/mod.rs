@@ -335,7 +335,7 @@ impl Body {
     }
 
     /// A body at rest from the parts a host keeps for it (the Fractum LAMMPS plugin's per-atom
-    /// arrays, the kernels' FractumBody): centre `pos` (m), orientation (body to world; the
+    /// arrays, read back from its data files): centre `pos` (m), orientation (body to world; the
     /// body frame is the principal frame of inertia), bounding radius (m), mass (kg), the
     /// principal moments of inertia (kg·m²) and the shape.
     #[inline]
