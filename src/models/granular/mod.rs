@@ -296,14 +296,11 @@ impl Granular {
     /// integrator, gravity, report strains) around the persistent state.
     fn with_state(scene: &Scene, cfg: GranularScene, state: GranularState) -> Granular {
         let fracture = scene.has_effect(EffectKind::Fracture);
+        let shaped = state.bodies.shape.iter().any(|s| !s.is_sphere());
         Granular {
-            pipeline: pipeline_for(
-                scene,
-                &cfg,
-                state.bodies.shape.iter().any(|s| !s.is_sphere()),
-            ),
+            pipeline: pipeline_for(scene, &cfg, shaped),
             integrator: VelocityVerlet {
-                track_orientation: fracture || state.bodies.shape.iter().any(|s| !s.is_sphere()),
+                track_orientation: fracture || shaped,
             },
             gravity: scene
                 .has_effect(EffectKind::Gravity)
