@@ -542,21 +542,21 @@ pub fn write_outputs(dir: &Path, cases: &[&Case], rows: &[Row], quick: bool) -> 
         &dir.join("accuracy_report.md"),
         report(cases, rows, quick).as_bytes(),
     )?;
-    let curves = figure::curves(cases, rows);
     let title = if quick {
         "What accuracy costs (quick sweep)"
     } else {
         "What accuracy costs"
     };
+    write_figure(dir, title, &figure::curves(cases, rows))
+}
+
+/// accuracy_cost.svg and accuracy_cost.png of `curves` into `dir`, each file atomically.
+fn write_figure(dir: &Path, title: &str, curves: &[figure::Curve]) -> Result<()> {
     write_atomic(
         &dir.join("accuracy_cost.svg"),
-        figure::svg(title, &curves)?.as_bytes(),
+        figure::svg(title, curves)?.as_bytes(),
     )?;
-    write_atomic(
-        &dir.join("accuracy_cost.png"),
-        &figure::png(title, &curves)?,
-    )?;
-    Ok(())
+    write_atomic(&dir.join("accuracy_cost.png"), &figure::png(title, curves)?)
 }
 
 /// Draws accuracy_cost.svg and accuracy_cost.png into `dir` from an accuracy_cost.csv (after
@@ -567,16 +567,7 @@ pub fn replot(csv_path: &Path, dir: &Path) -> Result<()> {
     let curves = figure::curves_from_csv(&text)
         .map_err(|m| Error::input(csv_path.display().to_string(), m))?;
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, "create the output folder", e))?;
-    let title = "What accuracy costs";
-    write_atomic(
-        &dir.join("accuracy_cost.svg"),
-        figure::svg(title, &curves)?.as_bytes(),
-    )?;
-    write_atomic(
-        &dir.join("accuracy_cost.png"),
-        &figure::png(title, &curves)?,
-    )?;
-    Ok(())
+    write_figure(dir, "What accuracy costs", &curves)
 }
 
 /// Advances `run` to its end and returns its summary.
