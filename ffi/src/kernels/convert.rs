@@ -6,9 +6,9 @@ use fractum::shape::Shape;
 use fractum::state::{Body, Vec3};
 use nalgebra::{Matrix3, Quaternion, UnitQuaternion};
 
-use fractum::fracture::GrainLoad;
+use fractum::fracture::{FractureParams, GrainLoad};
 
-use super::types::{FractumBody, FractumGrainLoad, FractumSpring};
+use super::types::{FractumBody, FractumFractureLaw, FractumGrainLoad, FractumSpring};
 
 pub(crate) fn quat(q: &[f64; 4]) -> UnitQuaternion<f64> {
     UnitQuaternion::new_unchecked(Quaternion::new(q[0], q[1], q[2], q[3]))
@@ -25,6 +25,24 @@ pub(crate) fn matrix(m: &[f64; 9]) -> Matrix3<f64> {
 /// A 3x3 matrix in the kernels' row-major doubles.
 pub(crate) fn matrix_out(m: &Matrix3<f64>) -> [f64; 9] {
     std::array::from_fn(|k| m[(k / 3, k % 3)])
+}
+
+/// The library's fracture parameters of a C fracture law, field by field (its counts are
+/// checked against their ranges by the caller; no Weibull draw: the kernels take a grain's
+/// factor as it is).
+pub(crate) fn fracture_params_in(l: &FractumFractureLaw) -> FractureParams {
+    FractureParams {
+        mi: l.mi,
+        sigma_c: l.sigma_c,
+        sigma_f: l.sigma_f,
+        weibull: None,
+        weibull_sigma_c: l.weibull_sigma_c != 0,
+        critical_contacts: l.critical_contacts as usize,
+        cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
+        ideal_plane: l.ideal_plane != 0,
+        plane_jitter: l.plane_jitter != 0,
+        poisson: l.poisson,
+    }
 }
 
 /// The C form of a grain load, field by field.

@@ -120,18 +120,7 @@ fn fracture_params(l: &FractumFractureLaw) -> Result<FractureParams, FractumStat
     let within = |v: i32, (lo, hi): (usize, usize)| v >= 0 && (lo..=hi).contains(&(v as usize));
     let springs_ok = l.springs == 0 || within(l.springs, fractum::fracture::SPRINGS);
     input_if(!within(l.critical_contacts, fractum::fracture::CRITICAL_CONTACTS) || !springs_ok)?;
-    Ok(FractureParams {
-        mi: l.mi,
-        sigma_c: l.sigma_c,
-        sigma_f: l.sigma_f,
-        weibull: None,
-        weibull_sigma_c: l.weibull_sigma_c != 0,
-        critical_contacts: l.critical_contacts as usize,
-        cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
-        ideal_plane: l.ideal_plane != 0,
-        plane_jitter: l.plane_jitter != 0,
-        poisson: l.poisson,
-    })
+    Ok(fracture_params_in(l))
 }
 
 fn trigger_out(t: Option<(Trigger, Criterion, f64)>) -> FractumTrigger {

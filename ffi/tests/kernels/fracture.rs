@@ -121,7 +121,7 @@ fn check_gives_the_library_bits() {
             weibull_sigma_c: i32::from(d.flag()),
             ..fracture_law(4, d.flag(), d.flag())
         };
-        let p = params_of(&law);
+        let p = fracture_params_in(&law);
         let b = random_body(&mut d, case % 2 == 0);
         // Up to 2.5 times the force that fails a sphere in uniaxial compression.
         let f = d.range(0.0, 2.5) * law.sigma_c * 2.0 * std::f64::consts::PI * b.radius * b.radius
@@ -169,7 +169,7 @@ fn split_bond_and_springs_give_the_library_bits() {
     for case in 0..120 {
         let springs = [0, 3, 4, 16][case % 4];
         let law = fracture_law(springs, d.flag(), d.flag());
-        let p = params_of(&law);
+        let p = fracture_params_in(&law);
         let mut b = random_body(&mut d, case % 3 != 0);
         if case % 12 == 5 {
             let pe = PolyEllipsoid::new([1e-3, 0.1e-3, 1e-3, 0.1e-3, 1e-3, 0.1e-3]).unwrap();

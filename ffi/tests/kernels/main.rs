@@ -28,7 +28,7 @@ mod integrate;
 mod refusals;
 
 use abi::*;
-use convert::{body_out, matrix_out, spring_out};
+use convert::{body_out, fracture_params_in, matrix_out, spring_out};
 use fractum::contact::convex::{self, ContactGeometry};
 use fractum::contact::hertz_mindlin::{
     Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
@@ -40,8 +40,8 @@ use fractum::contact::pair::{
 use fractum::fracture::break_plane::{self, Trigger};
 use fractum::fracture::cohesion::{self, Demand};
 use fractum::fracture::{
-    Criterion, FractureParams, MadeSpring, PendingSplit, bond_split, criteria,
-    grain_average_stress, grain_fails, split_grain,
+    Criterion, MadeSpring, PendingSplit, bond_split, criteria, grain_average_stress, grain_fails,
+    split_grain,
 };
 use fractum::sample::{UNIFORM_COUNTERS, uniforms};
 use fractum::shape::PolyEllipsoid;
@@ -244,21 +244,6 @@ fn fracture_law(springs: i32, ideal: bool, jitter: bool) -> FractumFractureLaw {
         springs,
         gc: 50.7,
         weibull_sigma_c: 0,
-    }
-}
-
-fn params_of(l: &FractumFractureLaw) -> FractureParams {
-    FractureParams {
-        mi: l.mi,
-        sigma_c: l.sigma_c,
-        sigma_f: l.sigma_f,
-        weibull: None,
-        weibull_sigma_c: l.weibull_sigma_c != 0,
-        critical_contacts: l.critical_contacts as usize,
-        cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
-        ideal_plane: l.ideal_plane != 0,
-        plane_jitter: l.plane_jitter != 0,
-        poisson: l.poisson,
     }
 }
 
