@@ -345,3 +345,57 @@ fn explain_names_fracture_weibull_cohesion_and_the_step_rule() {
         "{s}"
     );
 }
+
+/// crush_grain with each piece's strength drawn afresh at its size (Weibull on the particle
+/// strength, size exponent 1): the list of bodies per generation of the summary.
+fn crushed(extra: &[&str]) -> (Vec<u64>, u64, serde_json::Value) {
+    let mut args = vec![
+        "--set",
+        r#"effects=["contact","damping","friction","fracture","cohesion","weibull"]"#,
+        "--set",
+        r#"fracture.weibull_on="particle""#,
+        "--set",
+        "fracture.reference_radius=0.15e-3",
+        "--set",
+        "fracture.weibull_modulus=3",
+        "--set",
+        "fracture.size_exponent=1",
+    ];
+    args.extend_from_slice(extra);
+    let (_dir, s, _) = common::run_scene("scenes/crush_grain.toml", &args);
+    let c = &s["comminution"];
+    let generations = c["generations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| g.as_u64().unwrap())
+        .collect();
+    (generations, c["at_comminution_limit"].as_u64().unwrap(), s)
+}
+
+/// Comminution goes on: between the platens a fragment of a fragment breaks again, each
+/// piece with its own Weibull strength at its own size (three generations or more).
+#[test]
+fn a_fragment_of_a_fragment_breaks_between_platens() {
+    let (generations, at_limit, s) = crushed(&[]);
+    assert!(generations.len() >= 4, "{generations:?}");
+    assert!(generations[3..].iter().sum::<u64>() > 0, "{generations:?}");
+    assert_eq!(at_limit, 0);
+    let bodies: u64 = generations.iter().sum();
+    assert_eq!(bodies, s["particles_final"].as_u64().unwrap());
+}
+
+/// A piece below the comminution limit never splits: with the limit between the grain's
+/// equivalent radius (0.2915 mm: semi-axes sums 0.59, 0.56, 0.60 mm, V = π/6 × their product)
+/// and its halves' (about 0.23 mm), the grain splits once and neither half again, however far
+/// the platens go.
+#[test]
+fn pieces_below_the_comminution_limit_never_split() {
+    let v = PI / 6.0 * 0.59e-3 * 0.56e-3 * 0.60e-3;
+    let r = (3.0 * v / (4.0 * PI)).cbrt();
+    assert!((r - 0.2915e-3).abs() < 1e-7, "{r}");
+    let (generations, at_limit, s) = crushed(&["--set", "fracture.comminution_limit=0.27e-3"]);
+    assert_eq!(generations, vec![0, 2], "{s}");
+    assert_eq!(at_limit, 2);
+    assert_eq!(s["splits"]["total"].as_u64().unwrap(), 1);
+}

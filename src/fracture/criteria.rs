@@ -191,7 +191,15 @@ pub fn contact_tensile_stress(normal_force: f64, contact_radius: f64, poisson: f
 /// slowly with size the larger the modulus, the less the scatter). The two agree at w = 1, the
 /// paper's only value; they give opposite trends otherwise.
 pub fn weibull_factor(p: f64, w: f64, x: f64, x_m: f64) -> f64 {
-    (1.0 / p).ln().powf(1.0 / w) * (x / x_m).powf(-2.0 / w)
+    weibull_factor_sized(p, w, 2.0 / w, x, x_m)
+}
+
+/// [`weibull_factor`] with its size exponent `beta` given: `ln(1/P)^(1/w) (x/x_M)^(−β)`.
+/// Single-grain crushing tests measure the scatter (w) and the size effect (β) of a grain's
+/// strength separately; Eq. 18 ties them (β = 2/w), which holds only when the flaws that
+/// break a grain lie on its surface and follow Weibull's weakest link.
+pub fn weibull_factor_sized(p: f64, w: f64, beta: f64, x: f64, x_m: f64) -> f64 {
+    (1.0 / p).ln().powf(1.0 / w) * (x / x_m).powf(-beta)
 }
 
 #[cfg(test)]

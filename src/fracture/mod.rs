@@ -48,9 +48,18 @@ pub struct FractureParams {
     pub sigma_f: f64,
     /// Weibull modulus and reference radius, with `weibull`.
     pub weibull: Option<(f64, f64)>,
-    /// The Weibull factor scales σc of Hoek–Brown too (`weibull_on = "both"`); it always
-    /// scales the contact tensile strength.
+    /// Size exponent β of the Weibull factor: strengths ∝ (x/x_M)^(−β) (`size_exponent`,
+    /// default 2/w).
+    pub size_exponent: f64,
+    /// The Weibull factor scales σc of Hoek–Brown too (`weibull_on = "both"` or
+    /// `"particle"`); it always scales the contact tensile strength.
     pub weibull_sigma_c: bool,
+    /// The Weibull factor is the grain's particle strength (`weibull_on = "particle"`): σc
+    /// scales with it and the contact tensile strength with its cube root.
+    pub particle_strength: bool,
+    /// Equivalent radius (m) below which a piece no longer splits (`comminution_limit`);
+    /// 0: every piece may split.
+    pub comminution_limit: f64,
     pub critical_contacts: usize,
     /// Cohesive energy G_c (J/m²) and springs per plane, with `cohesion`.
     pub cohesion: Option<(f64, usize)>,
@@ -70,12 +79,23 @@ impl FractureParams {
         cohesion: bool,
     ) -> Self {
         let f = spec;
+        let particle = weibull && f.weibull_on == WeibullOn::Particle;
+        let sigma_f = match (f.reference_strength, f.reference_radius) {
+            (Some(s), _) => s,
+            (None, Some(x_m)) if particle => {
+                platen_contact_strength(f.sigma_c, x_m, young, poisson)
+            }
+            _ => f64::NAN,
+        };
         FractureParams {
             mi: f.mi,
             sigma_c: f.sigma_c,
-            sigma_f: f.reference_strength.unwrap_or(f64::NAN),
+            sigma_f,
             weibull: weibull.then(|| (f.weibull_modulus, f.reference_radius.unwrap_or(f64::NAN))),
-            weibull_sigma_c: weibull && f.weibull_on == WeibullOn::Both,
+            size_exponent: f.size_exponent.unwrap_or(2.0 / f.weibull_modulus),
+            weibull_sigma_c: weibull && f.weibull_on != WeibullOn::Contact,
+            particle_strength: particle,
+            comminution_limit: f.comminution_limit.unwrap_or(0.0),
             critical_contacts: f.critical_contacts,
             cohesion: cohesion.then(|| {
                 (
@@ -88,6 +108,57 @@ impl FractureParams {
             poisson,
         }
     }
+}
+
+impl FractureParams {
+    /// The contact tensile strength (Pa) of a grain of Weibull factor `factor`: σ_fM times
+    /// the factor, or times its cube root when the factor is the particle strength (at a
+    /// given contact force the Hertz edge stress grows as the force's cube root, so a grain
+    /// whose crushing force is `factor` times the reference grain's fails at its contacts at
+    /// `factor^(1/3)` times the stress).
+    pub fn contact_strength(&self, factor: f64) -> f64 {
+        if self.particle_strength {
+            self.sigma_f * factor.cbrt()
+        } else {
+            self.sigma_f * factor
+        }
+    }
+
+    /// Hoek–Brown's σc (Pa) for a grain of Weibull factor `factor`.
+    pub fn compressive_strength(&self, factor: f64) -> f64 {
+        if self.weibull_sigma_c {
+            self.sigma_c * factor
+        } else {
+            self.sigma_c
+        }
+    }
+
+    /// Whether a piece of volume `volume` (m³) is below the comminution limit: it no longer
+    /// splits.
+    pub fn below_comminution_limit(&self, volume: f64) -> bool {
+        self.comminution_limit > 0.0 && equivalent_radius(volume) < self.comminution_limit
+    }
+}
+
+/// The contact tensile strength (Pa) that goes with Hoek–Brown's `sigma_c` for a grain of
+/// radius `x_m` (m) between flat platens: the Hertz edge stress (Eq. 17) at its platen
+/// contacts when it fails by Hoek–Brown. A sphere under two opposite forces F has the
+/// average stress 3F/(2π x_m²) along them and none across (Eq. 8), so it fails at
+/// F = (2π/3) σc x_m²; each platen contact then has the radius a = (3 F x_m / (4 E*))^⅓ with
+/// E* = E / (2 (1 − ν²)) (the wall as the contact law takes it) and the edge stress
+/// (1 − 2ν)/3 · 3F/(2π a²). With `weibull_on = "particle"` this is the default
+/// `reference_strength`: one particle strength sets both criteria, as a crushing test
+/// between platens measures it.
+pub fn platen_contact_strength(sigma_c: f64, x_m: f64, young: f64, poisson: f64) -> f64 {
+    let e_star = young / (2.0 * (1.0 - poisson * poisson));
+    let force = 2.0 * std::f64::consts::PI / 3.0 * sigma_c * x_m * x_m;
+    let a = (3.0 * force * x_m / (4.0 * e_star)).cbrt();
+    criteria::contact_tensile_stress(force, a, poisson)
+}
+
+/// The equivalent radius (3V/4π)^⅓ (m) of a volume `volume` (m³): the size of Eq. 18.
+pub fn equivalent_radius(volume: f64) -> f64 {
+    (3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt()
 }
 
 /// Which criterion broke a grain.
@@ -266,10 +337,23 @@ pub fn grain_strength(
     w: f64,
     x_m: f64,
 ) -> f64 {
+    grain_strength_sized(seed, grain, generation, volume, w, 2.0 / w, x_m)
+}
+
+/// [`grain_strength`] with the size exponent `beta` given ((x/x_M)^(−β) instead of Eq. 18's
+/// (x/x_M)^(−2/w)); the same draw.
+pub fn grain_strength_sized(
+    seed: u64,
+    grain: u64,
+    generation: u32,
+    volume: f64,
+    w: f64,
+    beta: f64,
+    x_m: f64,
+) -> f64 {
     let mut p = [0.0];
     crate::sample::uniforms(seed, KEY_STRENGTH + grain, u64::from(generation), &mut p);
-    let x = (3.0 * volume / (4.0 * std::f64::consts::PI)).cbrt();
-    criteria::weibull_factor(p[0], w, x, x_m)
+    criteria::weibull_factor_sized(p[0], w, beta, equivalent_radius(volume), x_m)
 }
 
 /// The angles (rad) of the slight random rotation of sphere `grain`'s ideal break plane at
@@ -338,12 +422,13 @@ impl GrainFracture {
             return 1.0;
         };
         let generation = u32::from(self.generation[i]);
-        grain_strength(
+        grain_strength_sized(
             self.seed,
             i as u64 + 1,
             generation,
             bodies.volume(i),
             w,
+            self.params.size_exponent,
             x_m,
         )
     }
@@ -433,7 +518,7 @@ impl GrainFracture {
             if bonds[i] != 0 {
                 return;
             }
-            let threshold = p.sigma_f * strength[i];
+            let threshold = p.contact_strength(strength[i]);
             loads[i].add(
                 &bodies.pos[i],
                 &force,
@@ -458,7 +543,10 @@ impl GrainFracture {
             for i in grains {
                 let load = &loads[i];
                 let m = &load.moment;
-                if bonds[i] != 0 || *m == Matrix3::zeros() {
+                if bonds[i] != 0
+                    || *m == Matrix3::zeros()
+                    || p.below_comminution_limit(bodies.volume(i))
+                {
                     continue;
                 }
                 if let Some((trigger, criterion, stress)) = grain_fails(
@@ -616,11 +704,7 @@ pub fn grain_fails(
     top_stress: f64,
 ) -> Option<(Trigger, Criterion, f64)> {
     let stress = grain_average_stress(body, moment, torque);
-    let sigma_c = if p.weibull_sigma_c {
-        p.sigma_c * strength
-    } else {
-        p.sigma_c
-    };
+    let sigma_c = p.compressive_strength(strength);
     // Most grains are far from failing: a bound on the principal values first.
     if criteria::hoek_brown_may_fail(&stress, sigma_c, p.mi) {
         let [s1, _, s3] = criteria::principal_compression_values(&stress);
@@ -840,6 +924,77 @@ pub fn angular_acceleration(body: &Body, torque: &Vec3) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn params(on: WeibullOn, beta: Option<f64>, limit: Option<f64>) -> FractureParams {
+        let spec = FractureSpec {
+            reference_strength: Some(1.5e9),
+            reference_radius: Some(0.15e-3),
+            weibull_modulus: 3.0,
+            size_exponent: beta,
+            weibull_on: on,
+            comminution_limit: limit,
+            sigma_c: 200e6,
+            ..FractureSpec::default()
+        };
+        FractureParams::new(&spec, 95e9, 0.18, true, false)
+    }
+
+    /// The particle reading: a grain whose crushing force is S times the reference grain's
+    /// has σc S and a contact strength S^(1/3), because the Hertz edge stress at a force F
+    /// is (1 - 2ν)/3 · 3F/(2πa²) with a ∝ F^(1/3), i.e. ∝ F^(1/3). Checked here on the Hertz
+    /// formula itself: the edge stress at S F_c equals S^(1/3) times that at F_c.
+    #[test]
+    fn particle_strength_scales_sigma_c_and_the_contact_strength_by_its_cube_root() {
+        let p = params(WeibullOn::Particle, Some(0.9), None);
+        let s = 2.7;
+        assert_eq!(p.compressive_strength(s), 200e6 * s);
+        assert!((p.contact_strength(s) / 1.5e9 - s.cbrt()).abs() < 1e-15);
+        let (e_star, r, nu) = (95e9 / (2.0 * (1.0 - 0.18 * 0.18)), 0.15e-3, 0.18);
+        let edge = |f: f64| {
+            let a = (3.0 * f * r / (4.0 * e_star)).cbrt();
+            criteria::contact_tensile_stress(f, a, nu)
+        };
+        assert!((edge(s * 9.4) / edge(9.4) - s.cbrt()).abs() < 1e-12);
+        // The paper's reading scales the contact strength by the factor itself, and "both"
+        // σc too.
+        let c = params(WeibullOn::Contact, None, None);
+        assert_eq!(c.contact_strength(s), 1.5e9 * s);
+        assert_eq!(c.compressive_strength(s), 200e6);
+        let b = params(WeibullOn::Both, None, None);
+        assert_eq!(b.compressive_strength(s), 200e6 * s);
+    }
+
+    /// The size exponent defaults to Eq. 18's 2/w (the same draws, bit for bit, as before it
+    /// was a key); given, a grain twice the reference radius with P = 1/e has 2^(−β).
+    #[test]
+    fn size_exponent_defaults_to_two_over_w_and_sets_the_size_effect() {
+        assert_eq!(
+            params(WeibullOn::Contact, None, None).size_exponent,
+            2.0 / 3.0
+        );
+        let v = 4.0 / 3.0 * std::f64::consts::PI * (0.3e-3f64).powi(3);
+        for grain in 1..50 {
+            assert_eq!(
+                grain_strength(7, grain, 2, v, 3.0, 0.15e-3),
+                grain_strength_sized(7, grain, 2, v, 3.0, 2.0 / 3.0, 0.15e-3)
+            );
+        }
+        let e = std::f64::consts::E;
+        let f = criteria::weibull_factor_sized(1.0 / e, 3.0, 0.9, 0.3e-3, 0.15e-3);
+        assert!((f - 2f64.powf(-0.9)).abs() < 1e-15, "{f}");
+    }
+
+    /// The comminution limit compares the piece's equivalent radius (3V/4π)^⅓ with the limit;
+    /// no limit: nothing is below it.
+    #[test]
+    fn comminution_limit_reads_the_equivalent_radius() {
+        let v = |r: f64| 4.0 / 3.0 * std::f64::consts::PI * r.powi(3);
+        let p = params(WeibullOn::Particle, None, Some(0.1e-3));
+        assert!(p.below_comminution_limit(v(0.099e-3)));
+        assert!(!p.below_comminution_limit(v(0.101e-3)));
+        let none = params(WeibullOn::Particle, None, None);
+        assert!(!none.below_comminution_limit(v(1e-9)));
+    }
 
     /// The grain load keeps what the check used to select by sorting all of a grain's critical
     /// contacts (stable, largest stress first): the count, the three largest in that order

@@ -17,7 +17,10 @@ pub struct FractureSpec {
     #[serde(default = "default_sigma_c")]
     pub sigma_c: f64,
     /// Tensile strength σ_fM (Pa) of the contact criterion (Eq. 17); with `weibull`, that of
-    /// a grain of `reference_radius` with P = 1/e (Eq. 18). Required with `fracture`.
+    /// a grain of `reference_radius` with P = 1/e (Eq. 18). Required with `fracture`, but
+    /// with `weibull_on = "particle"`, where it defaults to the Hertz edge stress at the
+    /// platen contacts of the reference grain failing by Hoek–Brown
+    /// (`crate::fracture::platen_contact_strength`).
     pub reference_strength: Option<f64>,
     /// Reference equivalent radius x_M (m) of the Weibull size effect (Eq. 18); required with
     /// `weibull`.
@@ -25,12 +28,24 @@ pub struct FractureSpec {
     /// Weibull modulus w (Eq. 18), > 0; default 1.
     #[serde(default = "default_weibull_modulus")]
     pub weibull_modulus: f64,
+    /// Size exponent β of the strength: strengths scale as (x/x_M)^(−β) with the equivalent
+    /// radius x; in [0, 6]. Default 2/w, Eq. 18 as its source derives it (a flawed area ∝ x²).
+    /// With `weibull_on = "particle"` this is the exponent b of the particle strength F/d²
+    /// that single-grain crushing tests measure.
+    pub size_exponent: Option<f64>,
     /// Which strengths the Weibull factor scales (with `weibull`): `"contact"`, the contact
     /// tensile strength only, as the paper reads (Section 3.2 ties Weibull's statistics to the
     /// contact strength of Brzesowsky et al. and takes σc and m_i from Hoek and Martin);
-    /// `"both"`, σc of Hoek–Brown as well. Default `"contact"`.
+    /// `"both"`, σc of Hoek–Brown as well; `"particle"`, the factor is the grain's particle
+    /// strength (its crushing force over d², relative to the reference grain's): σc scales
+    /// with it and the contact tensile strength with its cube root (the Hertz edge stress at
+    /// a given force grows as the force's cube root). Default `"contact"`.
     #[serde(default)]
     pub weibull_on: WeibullOn,
+    /// Comminution limit (m): a grain or piece whose equivalent radius (3V/4π)^⅓ is below it
+    /// no longer splits; it stays whole (unbreakable) and goes on carrying load through its
+    /// contacts. Default: none (every piece can split again).
+    pub comminution_limit: Option<f64>,
     /// Contacts above the tensile strength that break a grain, in [3, 64]; default 3.
     #[serde(default = "default_critical_contacts")]
     pub critical_contacts: usize,
@@ -60,6 +75,9 @@ pub enum WeibullOn {
     Contact,
     /// The contact tensile strength and Hoek–Brown's σc.
     Both,
+    /// The particle strength: σc scaled by the factor, the contact tensile strength by its
+    /// cube root.
+    Particle,
 }
 
 impl WeibullOn {
@@ -67,6 +85,7 @@ impl WeibullOn {
         match self {
             WeibullOn::Contact => "contact",
             WeibullOn::Both => "both",
+            WeibullOn::Particle => "particle",
         }
     }
 }
@@ -101,7 +120,9 @@ impl Default for FractureSpec {
             reference_strength: None,
             reference_radius: None,
             weibull_modulus: default_weibull_modulus(),
+            size_exponent: None,
             weibull_on: WeibullOn::default(),
+            comminution_limit: None,
             critical_contacts: default_critical_contacts(),
             toughness: default_toughness(),
             springs: default_springs(),

@@ -23,7 +23,9 @@ const OLD_MAGIC: &[u8; 8] = b"FRACTUM\x01";
 /// equivalent diameter of its own volume beside its mass.
 /// 8: the run's state names the scene it belongs to, and is refused under another; grain
 /// fracture keeps the seed of its keyed draws instead of a sequential stream.
-const FORMAT_VERSION: u32 = 8;
+/// 9: fracture constants gained the size exponent, the particle-strength reading and the
+/// comminution limit; granular states keep how far comminution has gone at each report strain.
+const FORMAT_VERSION: u32 = 9;
 
 /// The most bytes a checkpoint file may hold (64 GiB: a million poly-ellipsoids with their
 /// springs and histories take about 1 GiB).

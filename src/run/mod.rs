@@ -469,7 +469,9 @@ const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// Brazilian loading its arcs' pressure.
 /// 4: the state names the scene it belongs to ([`SceneIdentity`]); grain fracture keeps the
 /// seed of its keyed draws instead of a sequential stream.
-const STATE_VERSION: u32 = 5;
+/// 6: fracture constants gained the size exponent, the particle-strength reading and the
+/// comminution limit; granular states keep how far comminution has gone at each report strain.
+const STATE_VERSION: u32 = 6;
 
 /// Which scene a saved state belongs to: a state restored under another scene took that
 /// scene's parameters with its own bodies (a dlsm state of E = 1 GPa went on under a handle of

@@ -36,7 +36,13 @@ pub(crate) fn fracture_params_in(l: &FractumFractureLaw) -> FractureParams {
         sigma_c: l.sigma_c,
         sigma_f: l.sigma_f,
         weibull: None,
+        // The plugin draws its Weibull factors itself (fractum_kernel_grain_strength, Eq. 18's
+        // size law) and knows no comminution limit: a scene that asks for either is refused
+        // by `fractum export lammps --plugin`.
+        size_exponent: f64::NAN,
         weibull_sigma_c: l.weibull_sigma_c != 0,
+        particle_strength: false,
+        comminution_limit: 0.0,
         critical_contacts: l.critical_contacts as usize,
         cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
         ideal_plane: l.ideal_plane != 0,

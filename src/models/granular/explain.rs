@@ -72,10 +72,13 @@ fn describe_fracture(scene: &Scene, cfg: &GranularScene) -> String {
     }
     match p.weibull {
         Some((w, xm)) => {
+            let beta = p.size_exponent;
             let _ = write!(
                 s,
-                "; + weibull: {} scaled per grain by a Weibull factor ln(1/P)^(1/w) (x/x_M)^(-2/w) (modulus {w}, reference radius {xm:e} m)",
-                if p.weibull_sigma_c {
+                "; + weibull: {} scaled per grain by a Weibull factor ln(1/P)^(1/w) (x/x_M)^(-beta) (modulus {w}, size exponent {beta}, reference radius {xm:e} m)",
+                if p.particle_strength {
+                    "the particle strength (weibull_on = \"particle\": sigma_c times the factor, the contact tensile strength times its cube root)"
+                } else if p.weibull_sigma_c {
                     "both strengths (weibull_on = \"both\")"
                 } else {
                     "the contact tensile strength (weibull_on = \"contact\"; sigma_c the same for every grain)"
@@ -83,6 +86,13 @@ fn describe_fracture(scene: &Scene, cfg: &GranularScene) -> String {
             );
         }
         None => s.push_str("; strengths the same for every grain (no weibull)"),
+    }
+    if p.comminution_limit > 0.0 {
+        let _ = write!(
+            s,
+            "; comminution limit: pieces of equivalent radius below {:e} m no longer split",
+            p.comminution_limit
+        );
     }
     match p.cohesion {
         Some((gc, ns)) => {
@@ -109,9 +119,12 @@ fn describe_sample(cfg: &GranularScene) -> String {
                 Packing::Compaction => {
                     "placed at a low solid fraction (bounding spheres at 0.4), then compressed by the box's faces without friction to the fraction (friction restored for loading)"
                 }
+                Packing::Jammed => {
+                    "placed at a low solid fraction (bounding spheres at 0.4), compressed without friction to 0.45, then compressed until they jam (at rest, carrying 1e-6 of their modulus) with a friction searched between none and the grains' own until the jammed grains fill the fraction within 0.003; loading starts from there with the grains' own friction"
+                }
             };
             let (grains, radii) = match &r.shape {
-                RandomShape::Ellipsoids { grain_file } => {
+                RandomShape::Ellipsoids { grain_file, .. } => {
                     let count = match r.amount {
                         Amount::Count(n) | Amount::Both { count: n, .. } => {
                             format!("{n} ellipsoid grains")

@@ -1,6 +1,7 @@
 //! The Fractum LAMMPS plugin: a data file that carries the grains' shapes, Fractum's first
 //! force evaluation (forces0.csv) and an input script of the plugin's pair and fixes.
 
+use crate::fracture::WeibullOn;
 use std::fmt::Write;
 
 use super::*;
@@ -136,6 +137,17 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         return Err(Error::input(
             &scene.source.label,
             "gravity is not exported to the Fractum LAMMPS plugin (use LAMMPS's fix gravity by hand)",
+        ));
+    }
+    let f = &plan.cfg.fracture;
+    if plan.has(EffectKind::Fracture)
+        && (f.size_exponent.is_some()
+            || f.comminution_limit.is_some()
+            || (plan.has(EffectKind::Weibull) && f.weibull_on == WeibullOn::Particle))
+    {
+        return Err(Error::input(
+            &scene.source.label,
+            "fracture.size_exponent, fracture.comminution_limit and fracture.weibull_on = \"particle\" are not in the Fractum LAMMPS plugin (its fix fractum/fracture draws Eq. 18's strengths and splits every piece): remove them to export",
         ));
     }
     let every = scene.output.every.max(1);
