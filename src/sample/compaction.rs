@@ -288,6 +288,16 @@ pub struct FractionSpec {
     pub skin: Option<f64>,
     /// Box edge lengths (m) at which the grains fill the target fraction.
     pub size: Vec3,
+    /// Friction coefficient while compacting (0: none, as [`compact_to_fraction`] describes).
+    pub friction: f64,
+    /// The filling and the jamming pressure as fractions of E/(1 − ν²) (see
+    /// [`FILL_PRESSURE_PER_MODULUS`], [`JAM_PRESSURE_PER_MODULUS`], the defaults).
+    pub pressures_per_modulus: (f64, f64),
+}
+
+impl FractionSpec {
+    /// The pressures of frictionless compaction to a fraction.
+    pub const DEFAULT_PRESSURES: (f64, f64) = (FILL_PRESSURE_PER_MODULUS, JAM_PRESSURE_PER_MODULUS);
 }
 
 /// Why [`compact_to_fraction`] stopped short: the grains jammed first.
@@ -307,11 +317,11 @@ const FILL_STRAIN_PER_STEP: f64 = 2e-5;
 /// While filling, the faces wait whenever the grains carry more than this fraction of
 /// E/(1 - ν²) (a relative Hertz overlap of about 2e-3): pushed harder, frictionless grains
 /// rearrange sooner.
-const FILL_PRESSURE_PER_MODULUS: f64 = 1e-4;
+pub const FILL_PRESSURE_PER_MODULUS: f64 = 1e-4;
 /// At the target size the grains count as jammed when, settled, they still carry this fraction
 /// of E/(1 - ν²) (a relative overlap of about 5e-4): frictionless grains below jamming carry
 /// nothing once they stop moving.
-const JAM_PRESSURE_PER_MODULUS: f64 = 1e-5;
+pub const JAM_PRESSURE_PER_MODULUS: f64 = 1e-5;
 /// Background viscous damping while compacting: velocities decay by e in this many steps
 /// (free-flying grains feel no contact damping; much stronger drag slows the rearrangements).
 const DRAG_STEPS: f64 = 5000.0;
@@ -319,10 +329,11 @@ const DRAG_STEPS: f64 = 5000.0;
 const SETTLED_SPEED: f64 = 1e-3;
 const FRACTION_MAX_STEPS: u64 = 2_000_000;
 
-/// Frictionless dynamic compaction to a solid fraction: the three upper faces of the box move
+/// Dynamic compaction to a solid fraction (frictionless unless `spec.friction` says
+/// otherwise): the three upper faces of the box move
 /// in, each at most `FILL_STRAIN_PER_STEP` of its edge a step, until the box has `spec.size`;
 /// whenever the mean face stress exceeds the filling pressure the faces wait for the grains to
-/// rearrange. Contacts are Hertz with viscous damping (restitution 0.3) and no friction;
+/// rearrange. Contacts are Hertz with viscous damping (restitution 0.3) and `spec.friction`;
 /// local damping and a background drag take out the kinetic energy. At the target size the
 /// faces hold until the grains are at rest. If the grains, settled, still carry the filling
 /// pressure before the target size, or the jamming pressure at it, they are jammed: the error
@@ -338,7 +349,8 @@ pub fn compact_to_fraction(
     let params = ContactParams {
         hertz: Hertz::new(spec.young, spec.poisson),
         damping: Some(ViscousDamping::from_restitution(0.3)),
-        mindlin: None,
+        mindlin: (spec.friction > 0.0)
+            .then(|| Mindlin::new(spec.young, spec.poisson, spec.friction)),
         wall_friction: None,
         skin: spec.skin,
         shapes,
@@ -355,8 +367,8 @@ pub fn compact_to_fraction(
     let target_fraction = solid / (target.x * target.y * target.z);
     let modulus = spec.young / (1.0 - spec.poisson.powi(2));
     let (fill_pressure, jam_pressure) = (
-        FILL_PRESSURE_PER_MODULUS * modulus,
-        JAM_PRESSURE_PER_MODULUS * modulus,
+        spec.pressures_per_modulus.0 * modulus,
+        spec.pressures_per_modulus.1 * modulus,
     );
     let mut c = Compactor {
         contact: build_contact(params),
@@ -382,10 +394,18 @@ pub fn compact_to_fraction(
         walls,
         &mut c.forces,
     );
-    progress(&format!(
-        "compacting {} grains without friction to solid fraction {target_fraction:.3} (time step {dt:.3e} s)",
-        bodies.len()
-    ));
+    if spec.friction > 0.0 {
+        progress(&format!(
+            "compacting {} grains with friction {} towards solid fraction {target_fraction:.3} (time step {dt:.3e} s)",
+            bodies.len(),
+            spec.friction
+        ));
+    } else {
+        progress(&format!(
+            "compacting {} grains without friction to solid fraction {target_fraction:.3} (time step {dt:.3e} s)",
+            bodies.len()
+        ));
+    }
     let start = walls.box_size();
     let wall_speed = FILL_STRAIN_PER_STEP * start.max() / dt;
     let drag = (-1.0 / DRAG_STEPS).exp();

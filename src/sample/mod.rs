@@ -7,6 +7,7 @@
 
 mod compaction;
 mod import;
+mod jammed;
 mod lattice;
 // beam2d: the vectorizable random lattice of Voronoi polygons.
 pub mod lattice2d;
@@ -30,7 +31,11 @@ pub use compaction::{
 pub use import::{
     ELLIPSOID_COLUMNS, EllipsoidGrain, read_ellipsoid_assembly, read_lammps_data, read_text_packing,
 };
+pub use jammed::{
+    FRACTION_TOLERANCE, JAM_PER_MODULUS, JammedReport, JammedShort, JammedSpec, compact_jammed,
+};
 pub use lattice::{hcp_positions, simple_cubic_positions};
+
 pub use random_pack::{PackReport, pack_geometric};
 
 /// What a generator made, for the summary.

@@ -64,6 +64,18 @@ pub enum BoxFace {
     ZMax = 5,
 }
 
+impl BoxFace {
+    /// The six faces, in their order.
+    pub const ALL: [BoxFace; 6] = [
+        BoxFace::XMin,
+        BoxFace::XMax,
+        BoxFace::YMin,
+        BoxFace::YMax,
+        BoxFace::ZMin,
+        BoxFace::ZMax,
+    ];
+}
+
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Walls {
     pub walls: Vec<Wall>,

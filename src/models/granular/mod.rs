@@ -90,6 +90,58 @@ pub struct GranularState {
     pub fracture: Option<GrainFracture>,
     pub energy: Option<EnergyAccount>,
     pub psd: Vec<(f64, Vec<(f64, f64)>)>,
+    /// How far comminution has gone at the start and at each report strain reached.
+    pub comminution: Vec<Comminution>,
+    /// The state loading starts from: the mean stress on the walls (Pa, compression
+    /// positive) and the mean coordination number (contacts per body, a wall contact counting
+    /// once), at the first force evaluation.
+    pub initial: [f64; 2],
+}
+
+/// How far comminution has gone at one strain: bodies, pieces (held by intact springs), the
+/// bodies of each generation (index: splits since the sample's grain) and the bodies below
+/// the comminution limit.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct Comminution {
+    pub strain: f64,
+    pub bodies: usize,
+    pub pieces: usize,
+    pub generations: Vec<usize>,
+    pub at_limit: usize,
+}
+
+impl Comminution {
+    /// The state of `fracture` over `bodies` at axial strain `strain`.
+    pub fn of(strain: f64, bodies: &Bodies, fracture: &GrainFracture) -> Comminution {
+        let n = bodies.len();
+        let mut generations = Vec::new();
+        for &g in &fracture.generation[..n] {
+            let g = usize::from(g);
+            if generations.len() <= g {
+                generations.resize(g + 1, 0);
+            }
+            generations[g] += 1;
+        }
+        let at_limit = (0..n)
+            .filter(|&i| fracture.params.below_comminution_limit(bodies.volume(i)))
+            .count();
+        Comminution {
+            strain,
+            bodies: n,
+            pieces: fracture.pieces(n).1,
+            generations,
+            at_limit,
+        }
+    }
+
+    fn json(&self) -> Value {
+        serde_json::json!({
+            "bodies": self.bodies,
+            "pieces": self.pieces,
+            "generations": self.generations,
+            "at_comminution_limit": self.at_limit,
+        })
+    }
 }
 
 impl GranularState {
@@ -272,9 +324,12 @@ impl Granular {
                 fracture: fracture_state,
                 energy: None,
                 psd: Vec::new(),
+                comminution: Vec::new(),
+                initial: [0.0; 2],
             },
         );
         model.evaluate_forces(dt, false);
+        model.state.initial = model.load_bearing();
         if model.state.fracture.is_some() {
             model.state.energy = Some(EnergyAccount::new(
                 &model.state.walls,
@@ -423,7 +478,9 @@ impl Granular {
         let sum = |x: &[f64]| crate::probe::fragments::sum_by_component(&labels, count, x);
         let volumes: Vec<f64> = (0..n).map(|i| st.bodies.volume(i)).collect();
         let pieces = size_distribution::pieces(&sum(&st.bodies.mass), &sum(&volumes));
+        let comminution = Comminution::of(at, &st.bodies, f);
         self.state.psd.push((at, pieces));
+        self.state.comminution.push(comminution);
     }
 
     /// Breaking grains make pieces smaller than any grain of the sample, and contacts between
@@ -534,6 +591,26 @@ impl Granular {
             .filter(move |&e| e <= end + 1e-12)
     }
 
+    /// The mean stress on the walls (Pa, compression positive: each wall's normal force over
+    /// its box face's area, averaged over the walls) and the mean coordination number
+    /// (contacts per body, a wall contact counting once) at the last force evaluation.
+    fn load_bearing(&self) -> [f64; 2] {
+        let st = &self.state;
+        let walls = &st.walls;
+        let stress = if walls.is_box {
+            (0..6)
+                .map(|f| walls.face_stress(crate::state::BoxFace::ALL[f]))
+                .sum::<f64>()
+                / 6.0
+        } else {
+            0.0
+        };
+        let wall_contacts: usize = walls.walls.iter().map(|w| w.contacts).sum();
+        let n = st.bodies.len().max(1);
+        let coordination = (2 * self.pipeline.contacts() + wall_contacts) as f64 / n as f64;
+        [stress, coordination]
+    }
+
     /// The `fracture` effect's results: grains broken, fragments, splits by criterion, springs,
     /// the stress at the report strains, the median size at each, and the energy account.
     fn fracture_summary(&self, f: &GrainFracture, m: &mut Map<String, Value>) {
@@ -542,6 +619,10 @@ impl Granular {
         m.insert("broken_particles".into(), f.broken_particles().into());
         m.insert("fragments".into(), f.fragments(n).into());
         m.insert("particles_final".into(), n.into());
+        m.insert(
+            "comminution".into(),
+            Comminution::of(self.axial_strain(), &self.state.bodies, f).json(),
+        );
         let by =
             |c: crate::fracture::Criterion| f.events.iter().filter(|e| e.criterion == c).count();
         m.insert(
@@ -583,6 +664,11 @@ impl Granular {
             }
             m.insert("median_diameter_at_strain".into(), Value::Object(d50));
             m.insert("size_modes_at_strain".into(), Value::Object(peaks));
+            let mut at = serde_json::Map::new();
+            for c in &self.state.comminution {
+                at.insert(format!("{}", c.strain), c.json());
+            }
+            m.insert("comminution_at_strain".into(), Value::Object(at));
         }
         if let Some(e) = &self.state.energy {
             m.insert(
@@ -831,6 +917,8 @@ impl Model for Granular {
             st.sample.solid_fraction.into(),
         );
         m.insert("contacts_final".into(), self.pipeline.contacts().into());
+        m.insert("initial_mean_stress".into(), st.initial[0].into());
+        m.insert("initial_coordination".into(), st.initial[1].into());
         m.insert("max_omega_dt".into(), st.max_omega_dt.into());
         if st.fracture.is_some() {
             m.insert("dt_shortened".into(), st.dt_shortened.into());

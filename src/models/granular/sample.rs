@@ -11,11 +11,11 @@ use super::scene::{
 };
 use crate::error::Result;
 use crate::sample::{
-    CompactionSpec, EllipsoidGrain, FractionSpec, STREAM_ORIENTATIONS, STREAM_POSITIONS,
-    STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box, compact_to_fraction,
-    compact_to_pressure, hcp_positions, pack_geometric, random_orientation,
-    read_ellipsoid_assembly, read_lammps_data, read_text_packing, simple_cubic_positions, stream,
-    truncated_normal_radii,
+    CompactionSpec, EllipsoidGrain, FractionSpec, JammedShort, JammedSpec, STREAM_ORIENTATIONS,
+    STREAM_POSITIONS, STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box,
+    compact_jammed, compact_to_fraction, compact_to_pressure, hcp_positions, pack_geometric,
+    random_orientation, read_ellipsoid_assembly, read_lammps_data, read_text_packing,
+    simple_cubic_positions, stream, truncated_normal_radii,
 };
 use crate::scene::Scene;
 use crate::scene::validate::check_bodies;
@@ -78,6 +78,84 @@ fn poly_ellipsoids_in_spheres(
 
 /// Builds the sample a scene describes. `progress` receives one-line notes on long stages.
 pub fn build(
+    scene: &Scene,
+    cfg: &GranularScene,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<Sample> {
+    let Some(dir) = std::env::var_os(SAMPLE_CACHE) else {
+        return make(scene, cfg, progress);
+    };
+    // A sweep over the physics of loading prepares the same sample again and again: with
+    // FRACTUM_SAMPLE_CACHE set, a sample is kept there under a digest of everything it is
+    // made from and read back instead of made.
+    let path = std::path::Path::new(&dir).join(format!("{:016x}.sample", cache_key(scene)));
+    if let Ok(bytes) = std::fs::read(&path) {
+        if let Ok((bodies, walls, info)) =
+            postcard::from_bytes::<(Bodies, Walls, SampleInfo)>(&bytes)
+        {
+            progress(&format!("sample read from the cache {}", path.display()));
+            return Ok(Sample {
+                bodies,
+                walls,
+                info,
+            });
+        }
+    }
+    let sample = make(scene, cfg, progress)?;
+    let bytes = postcard::to_stdvec(&(&sample.bodies, &sample.walls, &sample.info))
+        .expect("a sample serialises");
+    std::fs::create_dir_all(&dir)
+        .and_then(|_| crate::output::write_atomic(&path, &bytes).map_err(std::io::Error::other))
+        .map_err(|e| {
+            crate::error::Error::input(
+                &scene.source.label,
+                format!(
+                    "{SAMPLE_CACHE} = {}: the sample cache cannot be written ({e})",
+                    path.display()
+                ),
+            )
+        })?;
+    Ok(sample)
+}
+
+/// The environment variable naming the sample cache's folder.
+pub const SAMPLE_CACHE: &str = "FRACTUM_SAMPLE_CACHE";
+
+/// A digest (FNV-1a, 64 bits) of what a sample is made from: the build, the seed, the
+/// `[sample]`, `[material]` and `[neighbor]` tables and the grain file's bytes.
+fn cache_key(scene: &Scene) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |bytes: &[u8]| {
+        for &b in bytes {
+            h ^= u64::from(b);
+            h = h.wrapping_mul(0x0000_0100_0000_01b3);
+        }
+        h ^= 0xff;
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    };
+    eat(env!("CARGO_PKG_VERSION").as_bytes());
+    eat(&scene.seed.to_le_bytes());
+    for table in ["sample", "material", "neighbor"] {
+        eat(scene
+            .tables
+            .get(table)
+            .map(|t| t.to_string())
+            .unwrap_or_default()
+            .as_bytes());
+    }
+    if let Some(file) = scene
+        .tables
+        .get("sample")
+        .and_then(|t| t.get("grain_file"))
+        .and_then(|f| f.as_str())
+    {
+        eat(&std::fs::read(scene.source.dir.join(file)).unwrap_or_default());
+    }
+    h
+}
+
+/// The sample of the scene, made.
+fn make(
     scene: &Scene,
     cfg: &GranularScene,
     progress: &mut (dyn FnMut(&str) + Send),
@@ -274,7 +352,7 @@ fn compacted_sample(
     let box_volume = size.x * size.y * size.z;
     // Each grain as semi-axes (a, b, c); spheres have a = b = c.
     let grains: Vec<[f64; 3]> = match &s.shape {
-        RandomShape::Ellipsoids { grain_file } => {
+        RandomShape::Ellipsoids { grain_file, .. } => {
             let mut rng = stream(scene.seed, STREAM_RADII);
             let pool = read_grains(scene, "sample.grain_file", grain_file)?;
             let mean = pool.iter().map(|g| volume(&g.semi)).sum::<f64>() / pool.len() as f64;
@@ -361,12 +439,47 @@ fn compacted_sample(
     b.reorder(&order);
     let mut walls = Walls::new_box(Vec3::zeros(), start);
     let m = &cfg.material;
+    if s.packing() == Packing::Jammed {
+        let spec = JammedSpec {
+            young: m.young,
+            poisson: m.poisson,
+            density: m.density,
+            friction: m.friction,
+            skin: cfg.neighbor.skin,
+            fraction: solid / (target.x * target.y * target.z),
+        };
+        let report = compact_jammed(&mut b, &mut walls, &spec, progress)?.map_err(|short| {
+            let why = match short {
+                JammedShort::TooLoose { loosest } => format!(
+                    "with their friction {} the grains jam at {loosest:.3} already",
+                    spec.friction
+                ),
+                JammedShort::TooDense { densest } => {
+                    format!("without friction the grains jam at {densest:.3}")
+                }
+            };
+            scene.key_error(
+                "sample.solid_fraction",
+                format!(
+                    "= {:.3} is beyond what jammed compaction of these grains reaches: {why}",
+                    spec.fraction
+                ),
+            )
+        })?;
+        progress(&format!(
+            "jammed at solid fraction {:.4} (friction {:.4} while compacted, {} tries)",
+            report.fraction, report.friction, report.tries
+        ));
+        return Ok((b, walls, report.steps));
+    }
     let spec = FractionSpec {
         young: m.young,
         poisson: m.poisson,
         density: m.density,
         skin: cfg.neighbor.skin,
         size: target,
+        friction: 0.0,
+        pressures_per_modulus: FractionSpec::DEFAULT_PRESSURES,
     };
     let report = compact_to_fraction(&mut b, &mut walls, &spec, progress)?.map_err(|j| {
         let at = if j.reached < j.target - 5e-4 {

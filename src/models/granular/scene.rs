@@ -95,8 +95,12 @@ pub enum Packing {
     Geometric,
     /// Grains placed at a low solid fraction, then compressed by the box's faces without
     /// friction until they fill the fraction; friction is the material's again from the
-    /// first loading step (the default, and the only method, for ellipsoid grains).
+    /// first loading step (the default for ellipsoid grains).
     Compaction,
+    /// Jammed at the fraction under a light seating pressure, by compaction with a friction
+    /// searched between none and the grains' own (`crate::sample::compact_jammed`): a
+    /// sample that carries load before loading, as a laboratory's consolidated specimen.
+    Jammed,
 }
 
 impl Packing {
@@ -104,6 +108,7 @@ impl Packing {
         match self {
             Packing::Geometric => "geometric",
             Packing::Compaction => "compaction",
+            Packing::Jammed => "jammed",
         }
     }
 }
@@ -192,7 +197,7 @@ impl RandomSample {
             RandomShape::Spheres { packing, .. } | RandomShape::PolyEllipsoids { packing, .. } => {
                 packing
             }
-            RandomShape::Ellipsoids { .. } => Packing::Compaction,
+            RandomShape::Ellipsoids { packing, .. } => packing,
         }
     }
 }
@@ -211,8 +216,12 @@ pub enum RandomShape {
         packing: Packing,
     },
     /// `shape = "ellipsoid"`: ellipsoids whose semi-axes are drawn from the grains of
-    /// `grain_file` (CSV, relative to the scene file), packed by compaction.
-    Ellipsoids { grain_file: String },
+    /// `grain_file` (CSV, relative to the scene file), packed by compaction (loose or
+    /// jammed).
+    Ellipsoids {
+        grain_file: String,
+        packing: Packing,
+    },
 }
 
 /// The truncated normal radius distribution of a random packing (m).

@@ -14,7 +14,7 @@ use super::{
     SingleGrain, WallSpec,
 };
 use crate::error::Result;
-use crate::fracture::FractureSpec;
+use crate::fracture::{FractureSpec, WeibullOn};
 use crate::scene::validate::{Range, check, check_bodies, require};
 use crate::scene::{EffectKind, NeighborSpec, Scene};
 
@@ -254,12 +254,19 @@ fn validate_fracture(s: &Scene, f: &FractureSpec) -> Result<()> {
     if let Some(v) = f.reference_radius {
         check(s, "fracture.reference_radius", v, Range::POSITIVE, "m")?;
     }
-    if s.has_effect(EffectKind::Fracture) {
+    if let Some(v) = f.size_exponent {
+        check(s, "fracture.size_exponent", v, Range::closed(0.0, 6.0), "")?;
+    }
+    if let Some(v) = f.comminution_limit {
+        check(s, "fracture.comminution_limit", v, Range::POSITIVE, "m")?;
+    }
+    let derived = s.has_effect(EffectKind::Weibull) && f.weibull_on == WeibullOn::Particle;
+    if s.has_effect(EffectKind::Fracture) && !derived {
         require(
             s,
             "fracture.reference_strength",
             f.reference_strength,
-            "with the \"fracture\" effect (the contact tensile strength)",
+            "with the \"fracture\" effect (the contact tensile strength; derived from sigma_c only with weibull_on = \"particle\")",
         )?;
     }
     if s.has_effect(EffectKind::Weibull) {
@@ -283,7 +290,10 @@ fn validate_sample(s: &Scene, p: &SampleSpec, friction: f64) -> Result<typed::Sa
         SampleKind::Random if p.shape == Some(GrainShape::Ellipsoid) => {
             let (grain_file, box_size, amount) = validate_ellipsoid_sample(s, p)?;
             Grains::Random(RandomSample {
-                shape: RandomShape::Ellipsoids { grain_file },
+                shape: RandomShape::Ellipsoids {
+                    grain_file,
+                    packing: packing(p),
+                },
                 amount,
                 box_size,
                 orientations: orientations(Orientations::Random),
@@ -463,7 +473,7 @@ fn validate_sample(s: &Scene, p: &SampleSpec, friction: f64) -> Result<typed::Sa
     if p.shape == Some(GrainShape::Ellipsoid) && p.packing == Some(Packing::Geometric) {
         return Err(s.key_error(
             "sample.packing",
-            "= \"geometric\" packs spheres only; ellipsoid grains reach their solid fraction by \"compaction\"",
+            "= \"geometric\" packs spheres only; ellipsoid grains reach their solid fraction by \"compaction\" or \"jammed\"",
         ));
     }
     // `pressure` compacts every kind of sample (random ones are checked above, in their order;
@@ -524,7 +534,7 @@ fn packing(p: &SampleSpec) -> Packing {
 fn check_solid_fraction(s: &Scene, p: &SampleSpec, phi: f64) -> Result<()> {
     let top = match packing(p) {
         Packing::Geometric => 0.65,
-        Packing::Compaction => 0.9,
+        Packing::Compaction | Packing::Jammed => 0.9,
     };
     check(
         s,

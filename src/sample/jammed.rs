@@ -1,0 +1,195 @@
+//! A jammed sample at a given solid fraction, carrying load before loading
+//! (`sample.packing = "jammed"`): the friction-adjusted compaction.
+//!
+//! A sample compressed without friction is loose (at rest, carrying nothing) below the
+//! frictionless jamming fraction; one compressed with the grains' friction jams where that
+//! friction lets it, looser the more friction. Between the two, the friction the grains
+//! have while they are compressed sets the fraction they jam at: DEM studies prepare samples
+//! of a given density this way, by adjusting the interparticle friction during the isotropic
+//! compression and restoring it for loading (Salot, Gotteland and Villard 2009, Granular
+//! Matter 11, 221). Here:
+//!
+//! 1. the grains, placed loose, are compressed without friction to solid fraction
+//!    [`LOOSE_FRACTION`] (below where any of them jam);
+//! 2. from there, the box's faces compress them with a friction μ_p, waiting whenever the
+//!    grains push back, until they jam: settled, at rest, still carrying
+//!    [`JAM_PER_MODULUS`] of their modulus ([`compact_to_fraction`] with friction); μ_p is
+//!    searched in [0, μ] (μ the grains' friction: halving until a try jams denser than
+//!    asked, then interpolating in the bracket) until the jammed sample fills the fraction
+//!    asked within [`FRACTION_TOLERANCE`] (8 tries at most; the closest is kept); each try
+//!    starts from the same loose sample;
+//! 3. loading starts from the chosen sample with the grains' own friction, its faces fixed
+//!    where they jammed.
+//!
+//! No parameter depends on the fraction asked: the search finds μ_p. The fractions a
+//! material reaches this way span its loosest jammed state (μ_p = μ) to its frictionless
+//! jamming fraction (μ_p = 0); outside, the sample is refused naming the one it reached. The
+//! searches compress with a hundredth of the grains' stiffness ([`SEARCH_STIFFNESS`]; a step
+//! ten times as long): the jamming pressure is a fraction of the modulus, so the overlaps are
+//! those of the true stiffness, and with it the jammed sample carries the same forces times
+//! a hundred, in the same balance (Hertz forces at fixed overlaps scale with the modulus).
+
+use super::compaction::{FractionSpec, compact_to_fraction};
+use crate::error::Result;
+use crate::state::{Bodies, Walls};
+
+/// The stress at which a compressed sample counts as jammed, as a fraction of E/(1 − ν²):
+/// the faces wait whenever the grains carry ten times this, and the grains are jammed when,
+/// settled at rest, they still do. Hertz overlaps are then about 10⁻⁴ of a grain's radius,
+/// so the fraction found is the jamming fraction to about 3·10⁻⁴. The sample starts loading
+/// carrying it: for quartz about 0.1 MPa, a light seating of the specimen far below what
+/// loading brings (several MPa at 3% strain for sand).
+pub const JAM_PER_MODULUS: f64 = 1e-7;
+/// The solid fraction of the loose sample every search starts from, whatever is asked: below
+/// the loosest jammed packings of frictional grains (spheres of infinite friction jam near
+/// 0.55), so the fraction a friction jams at does not depend on where it started.
+pub const LOOSE_FRACTION: f64 = 0.45;
+/// The sample lands within this of the solid fraction asked.
+pub const FRACTION_TOLERANCE: f64 = 0.003;
+/// The grains' stiffness while μ_p is searched, as a fraction of theirs.
+pub const SEARCH_STIFFNESS: f64 = 0.01;
+/// Tries of μ_p at most.
+const TRIES: usize = 8;
+
+/// What to prepare, and the grains' material.
+#[derive(Debug, Clone, Copy)]
+pub struct JammedSpec {
+    /// Young's modulus (Pa), Poisson's ratio, density (kg/m³) and friction of the grains.
+    pub young: f64,
+    pub poisson: f64,
+    pub density: f64,
+    pub friction: f64,
+    /// Verlet skin (m) of the neighbour list; `None`: the default.
+    pub skin: Option<f64>,
+    /// The solid fraction asked for.
+    pub fraction: f64,
+}
+
+/// The prepared sample.
+#[derive(Debug, Clone, Copy)]
+pub struct JammedReport {
+    /// Steps of the frictionless compaction to the loose sample (the tries' are not counted).
+    pub steps: u64,
+    /// The friction the grains were compressed with, and how many were tried.
+    pub friction: f64,
+    pub tries: usize,
+    /// The sample's solid fraction.
+    pub fraction: f64,
+}
+
+/// Why the fraction asked cannot be prepared: the loosest fraction the grains jam at (with
+/// their friction), or the densest the search reached (its friction near none).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum JammedShort {
+    TooLoose { loosest: f64 },
+    TooDense { densest: f64 },
+}
+
+fn fraction_of(bodies: &Bodies, walls: &Walls) -> f64 {
+    let s = walls.box_size();
+    bodies.solid_volume() / (s.x * s.y * s.z)
+}
+
+/// Prepares the bodies (placed loose in the box `walls`) as a jammed sample at
+/// `spec.fraction`; see the module's description.
+pub fn compact_jammed(
+    bodies: &mut Bodies,
+    walls: &mut Walls,
+    spec: &JammedSpec,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<std::result::Result<JammedReport, JammedShort>> {
+    let size = walls.box_size();
+    let loose = LOOSE_FRACTION.min(spec.fraction);
+    let scale = (fraction_of(bodies, walls) / loose).cbrt().min(1.0);
+    let soft = spec.young * SEARCH_STIFFNESS;
+    let fill = FractionSpec {
+        young: soft,
+        poisson: spec.poisson,
+        density: spec.density,
+        skin: spec.skin,
+        size: size * scale,
+        friction: 0.0,
+        pressures_per_modulus: FractionSpec::DEFAULT_PRESSURES,
+    };
+    let steps = match compact_to_fraction(bodies, walls, &fill, progress)? {
+        Ok(r) => r.steps,
+        // Jammed without friction below the loose fraction: denser than any friction allows.
+        Err(j) => {
+            return Ok(Err(JammedShort::TooDense { densest: j.reached }));
+        }
+    };
+    let start = (bodies.clone(), walls.clone());
+    // Each try compresses the loose sample with friction mu towards a box the grains could
+    // never fill (solid fraction 0.9) and stops where they jam: at rest, carrying the jamming
+    // pressure.
+    let dense = size * (fraction_of(bodies, walls) / 0.9).cbrt() * scale;
+    let attempt = |mu: f64| -> Result<(Bodies, Walls, f64)> {
+        let (mut b, mut w) = start.clone();
+        let c = FractionSpec {
+            young: soft,
+            poisson: spec.poisson,
+            density: spec.density,
+            skin: spec.skin,
+            size: dense,
+            friction: mu,
+            pressures_per_modulus: (10.0 * JAM_PER_MODULUS, JAM_PER_MODULUS),
+        };
+        let phi = match compact_to_fraction(&mut b, &mut w, &c, &mut |_| {})? {
+            Err(j) => j.reached,
+            Ok(_) => 0.9,
+        };
+        Ok((b, w, phi))
+    };
+    // The bracket [lo, hi] of μ_p, with the fractions jammed at its ends where known: more
+    // friction, looser.
+    let (mut lo, mut hi) = ((0.0, None::<f64>), (spec.friction, 0.0));
+    let loosest = attempt(hi.0)?;
+    hi.1 = loosest.2;
+    progress(&format!(
+        "jammed with the grains' friction {} at solid fraction {:.4}",
+        hi.0, loosest.2
+    ));
+    if loosest.2 > spec.fraction + FRACTION_TOLERANCE {
+        return Ok(Err(JammedShort::TooLoose { loosest: loosest.2 }));
+    }
+    let mut best = (hi.0, loosest);
+    let mut tries = 1;
+    while (best.1.2 - spec.fraction).abs() > FRACTION_TOLERANCE && tries < TRIES {
+        // Halve the bracket until its dense end is known, then interpolate in it (kept a
+        // quarter away from either end, as jammed fractions scatter from try to try).
+        let mu = match lo.1 {
+            None => 0.5 * (lo.0 + hi.0),
+            Some(phi_lo) => {
+                let t = ((phi_lo - spec.fraction) / (phi_lo - hi.1)).clamp(0.25, 0.75);
+                lo.0 + t * (hi.0 - lo.0)
+            }
+        };
+        let here = attempt(mu)?;
+        tries += 1;
+        progress(&format!(
+            "jammed with friction {mu:.4} at solid fraction {:.4} (asked {:.4})",
+            here.2, spec.fraction
+        ));
+        if here.2 > spec.fraction {
+            lo = (mu, Some(here.2));
+        } else {
+            hi = (mu, here.2);
+        }
+        if (here.2 - spec.fraction).abs() < (best.1.2 - spec.fraction).abs() {
+            best = (mu, here);
+        }
+    }
+    if best.1.2 < spec.fraction - FRACTION_TOLERANCE {
+        // Bisection closed in on no friction and the grains still jam looser.
+        return Ok(Err(JammedShort::TooDense { densest: best.1.2 }));
+    }
+    let (mu, (b, w, phi)) = best;
+    *bodies = b;
+    *walls = w;
+    Ok(Ok(JammedReport {
+        steps,
+        friction: mu,
+        tries,
+        fraction: phi,
+    }))
+}
