@@ -6,10 +6,19 @@ Usage:
   python3 examples/mason_sand.py calibrate [--jobs 3]     the calibration at 1520 kg/m3
   python3 examples/mason_sand.py predict   [--jobs 3]     the blind predictions, 4 densities
   python3 examples/mason_sand.py report    [--plots DIR]  tables (markdown) and plots
+  python3 examples/mason_sand.py runs                      the calibration's runs, one command
+                                                           a line (to run them elsewhere)
 
 Every run is scenes/mason_sand_shpb.toml with `--set` overrides, `fractum run --threads 1`,
-`--jobs` at a time, into target/mason_sand/NAME_seedN/; a finished run (its summary.json
-exists) is not run again (delete the folder after changing the physics).
+`--jobs` at a time, into target/mason_sand/NAME_seedN/ (FRACTUM_MASON_WORK moves it); a
+finished run (its summary.json exists) is not run again (delete the folder after changing
+the physics).
+
+What is fixed before any run (docs/validation.md gives sources and ranges): E 95 GPa, nu
+0.18, rho 2650 kg/m3 (quartz), grain friction 0.8 (the FEM-DEM study's effective value for
+angular grains), wall friction 0.5, m_i 20.56, the jammed preparation, the particle-strength
+reading of the Weibull law with the contact strength derived from sigma_c (the platen
+contact's Hertz edge stress at Hoek-Brown failure), the comminution limit 0.06 mm.
 
 The calibration, stated before any run was compared (docs/validation.md):
 - Data: the six records' axial (one-wave, transmitted-face) stress on the loading branch,
@@ -17,20 +26,15 @@ The calibration, stated before any run was compared (docs/validation.md):
   mean of the records that reach it (test 030 ends before 0.25).
 - Simulation: the stress on the face opposite the driven one (series.csv `stress_opposite`),
   interpolated at the same strains, averaged over seeds 1, 2, 3.
-- Objective: J = mean over those strains of ln(sim / target)^2 (every strain weighs by its
-  relative error: the stress spans a factor of 15 over the window). sqrt(J) is the RMS
-  relative (log) error.
-- Parameters (four): Young's modulus E, the contact tensile strength at the reference radius
-  (fracture.reference_strength), Hoek-Brown's sigma_c, the grains' friction (material.friction).
-  Everything else stays as scenes/mason_sand_shpb.toml has it (wall friction 0.5, Weibull
-  modulus 1, m_i 20.56, nu 0.18).
-- Method: coordinate search in log space from the start point (E 29 GPa, the FEM-DEM study's;
-  reference strength 3 GPa, sigma_c 592 MPa, friction 0.5, the paper's silica values): each
-  parameter in turn is tried at x2 and x0.5 of its current value (friction +-0.2), keeping the
-  best point whenever J falls; after a full round without a gain the factors are square-rooted
-  (x1.41); stopped when the budget of evaluations (`--budget`, default 12) is spent. Physical
-  bounds: E in [5, 100] GPa, reference strength in [0.1, 30] GPa, sigma_c in [50, 2000] MPa,
-  friction in [0.1, 0.9].
+- Objective: J = mean over those strains of ln(sim / target)^2. sqrt(J) is the RMS relative
+  (log) error.
+- Parameters (two; the single-grain data that should fix them could not be reached): the
+  particle strength as Hoek-Brown's sigma_c of a grain of the reference radius (0.15 mm) with
+  P = 1/e, and the size exponent b of the particle strength (strength ~ size^-b); the Weibull
+  modulus follows as m = 3/b (weakest link over the grain's volume).
+- Method: a grid, evaluated at once (16 cores): sigma_c 200 and 400 MPa crossed with b 1 and
+  2, and the centre (300 MPa, 1.5); the point of least J is the calibration. No point is
+  added after the results are seen.
 """
 import argparse
 import csv
@@ -45,7 +49,7 @@ from concurrent.futures import ThreadPoolExecutor
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 TARGET = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
 FRACTUM = os.environ.get("FRACTUM_BIN", os.path.join(TARGET, "release", "fractum"))
-WORK = os.path.join(TARGET, "mason_sand")
+WORK = os.environ.get("FRACTUM_MASON_WORK", os.path.join(TARGET, "mason_sand"))
 SCENE = os.path.join(ROOT, "scenes", "mason_sand_shpb.toml")
 DATA = os.path.join(ROOT, "data", "mason_sand_shpb")
 TESTS = ["026", "027", "028", "029", "030", "035"]
@@ -54,13 +58,8 @@ REPORT_STRAINS = [0.05, 0.10, 0.15, 0.20, 0.25]
 SEEDS = [1, 2, 3]
 QUARTZ = 2650.0
 
-# name -> (scene key, start, kind of step, bounds)
-PARAMS = {
-    "young": ("material.young", 29e9, "log", (5e9, 100e9)),
-    "strength": ("fracture.reference_strength", 3e9, "log", (0.1e9, 30e9)),
-    "sigma_c": ("fracture.sigma_c", 592e6, "log", (50e6, 2000e6)),
-    "friction": ("material.friction", 0.5, "lin", (0.1, 0.9)),
-}
+# The calibration grid: (sigma_c Pa, size exponent b); m = 3 / b.
+GRID = [(200e6, 1.0), (200e6, 2.0), (400e6, 1.0), (400e6, 2.0), (300e6, 1.5)]
 # The blind predictions: densities (kg/m3) of the laboratory's other tests.
 DENSITIES = [1580, 1640, 1700, 1770]
 
@@ -111,10 +110,7 @@ def run(name, sets, seed):
     out = os.path.join(WORK, f"{name}_seed{seed}")
     if os.path.exists(os.path.join(out, "summary.json")):
         return out
-    cmd = [FRACTUM, "run", SCENE, "--threads", "1", "--quiet", "--out", out,
-           "--set", f"seed={seed}"]
-    for s in sets:
-        cmd += ["--set", s]
+    cmd = run_command(name, sets, seed)
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0:
         sys.stderr.write(f"{name} seed {seed}: {r.stderr.strip()}\n")
@@ -161,66 +157,49 @@ def objective(runs, tgt):
 
 
 def point_name(p):
-    return "cal_" + "_".join(f"{k}{p[k]:.4g}" for k in PARAMS)
+    return f"cal_sc{p[0] / 1e6:.0f}_b{p[1]:g}"
 
 
 def point_sets(p):
-    return [f"{PARAMS[k][0]}={p[k]:.6g}" for k in PARAMS]
+    return [f"fracture.sigma_c={p[0]:.6g}", f"fracture.size_exponent={p[1]:g}",
+            f"fracture.weibull_modulus={3.0 / p[1]:.6g}"]
 
 
 def log_path():
     return os.path.join(WORK, "calibration.json")
 
 
+def run_command(name, sets, seed):
+    out = os.path.join(WORK, f"{name}_seed{seed}")
+    cmd = [FRACTUM, "run", SCENE, "--threads", "1", "--quiet", "--out", out,
+           "--set", f"seed={seed}"]
+    for s in sets:
+        cmd += ["--set", s]
+    return cmd
+
+
+def runs(args):
+    """The calibration grid's runs and the shipped scene's, one shell command a line."""
+    import shlex
+    for p in GRID:
+        for seed in SEEDS:
+            print(" ".join(shlex.quote(c) for c in run_command(point_name(p), point_sets(p), seed)))
+
+
 def calibrate(args):
     os.makedirs(WORK, exist_ok=True)
     tgt = targets(records())
     history = []
-    if os.path.exists(log_path()):
-        history = json.load(open(log_path()))
-
-    def J(p):
-        for h in history:
-            if h["point"] == p:
-                return h["J"]
-        runs = evaluate(point_name(p), point_sets(p), args.jobs)
-        j = objective(runs, tgt) if runs else float("inf")
-        history.append({"point": dict(p), "J": j})
-        json.dump(history, open(log_path(), "w"), indent=1)
-        print(f"J = {j:.4f} (rms log error {math.sqrt(j):.3f}) at {p}", flush=True)
-        return j
-
-    best = {k: v[1] for k, v in PARAMS.items()}
-    jbest = J(best)
-    factor, shift = 2.0, 0.2
-    evaluations = lambda: len({json.dumps(h["point"], sort_keys=True) for h in history})
-    while evaluations() < args.budget:
-        gained = False
-        for k, (_, _, kind, (lo, hi)) in PARAMS.items():
-            for direction in (+1, -1):
-                if evaluations() >= args.budget:
-                    break
-                p = dict(best)
-                p[k] = best[k] * factor ** direction if kind == "log" else best[k] + direction * shift
-                p[k] = min(max(p[k], lo), hi)
-                if p[k] == best[k]:
-                    continue
-                j = J(p)
-                if j < jbest:
-                    best, jbest, gained = p, j, True
-                    break
-        if not gained:
-            factor, shift = math.sqrt(factor), shift / 2
-    print(f"best J = {jbest:.4f} (rms log error {math.sqrt(jbest):.3f}) at {best}")
-    json.dump({"best": best, "J": jbest}, open(os.path.join(WORK, "calibrated.json"), "w"),
-              indent=1)
-
-
-def calibrated():
-    path = os.path.join(WORK, "calibrated.json")
-    if os.path.exists(path):
-        return json.load(open(path))["best"]
-    return {k: v[1] for k, v in PARAMS.items()}
+    for p in GRID:
+        r = evaluate(point_name(p), point_sets(p), args.jobs)
+        j = objective(r, tgt) if r else float("inf")
+        history.append({"sigma_c": p[0], "b": p[1], "J": j})
+        print(f"J = {j:.4f} (rms log error {math.sqrt(j):.3f}) at sigma_c {p[0] / 1e6:.0f} MPa, b {p[1]}",
+              flush=True)
+    json.dump(history, open(log_path(), "w"), indent=1)
+    best = min(history, key=lambda h: h["J"])
+    print(f"best J = {best['J']:.4f} at sigma_c {best['sigma_c'] / 1e6:.0f} MPa, b {best['b']}")
+    json.dump({"best": best}, open(os.path.join(WORK, "calibrated.json"), "w"), indent=1)
 
 
 def predict(args):
@@ -228,6 +207,19 @@ def predict(args):
     for rho in DENSITIES:
         phi = rho / QUARTZ
         evaluate(f"pred_{rho}", [f"sample.solid_fraction={phi:.6f}"], args.jobs)
+
+
+def previous_fit():
+    """The previous fit (E 7.25 GPa, kept in docs/mason_sand_runs_previous.csv): the mean of
+    its three seeds' opposite-face stress (MPa) at the report strains."""
+    path = os.path.join(ROOT, "docs", "mason_sand_runs_previous.csv")
+    if not os.path.exists(path):
+        return None
+    vals = {}
+    for r in csv.DictReader(open(path)):
+        if r["run"].startswith("scene_seed"):
+            vals.setdefault(float(r["axial_strain"]), []).append(float(r["stress_opposite_MPa"]))
+    return {e: statistics.mean(v) for e, v in vals.items()} if vals else None
 
 
 def fmt(v, nd=1):
@@ -238,15 +230,13 @@ def report(args):
     recs = records()
     tgt = targets(recs)
     lines = []
-    # The calibration history.
+    # The calibration grid.
     if os.path.exists(log_path()):
-        lines.append("| evaluation | E (GPa) | reference strength (GPa) | sigma_c (MPa) | friction | J | RMS log error |")
-        lines.append("|---:|---:|---:|---:|---:|---:|---:|")
+        lines.append("| evaluation | sigma_c (MPa) | b | m = 3/b | J | RMS log error |")
+        lines.append("|---:|---:|---:|---:|---:|---:|")
         for k, h in enumerate(json.load(open(log_path()))):
-            p = h["point"]
-            lines.append(f"| {k + 1} | {p['young'] / 1e9:.3g} | {p['strength'] / 1e9:.3g} | "
-                         f"{p['sigma_c'] / 1e6:.3g} | {p['friction']:.2g} | {h['J']:.4f} | "
-                         f"{math.sqrt(h['J']):.3f} |")
+            lines.append(f"| {k + 1} | {h['sigma_c'] / 1e6:.0f} | {h['b']:g} | {3 / h['b']:.3g} | "
+                         f"{h['J']:.4f} | {math.sqrt(h['J']):.3f} |")
         lines.append("")
     # Records against the calibrated scene (the shipped one) and the predictions.
     band = {}
@@ -289,7 +279,68 @@ def report(args):
         ratio = at(runs[0]["strain"], runs[0]["lateral"], 0.25) / at(runs[0]["strain"], runs[0]["opposite"], 0.25)
         lines.append("| paper's main job (silica sand, 1460 kg/m3, 500/s), seed 1 | "
                      + " | ".join(cells) + f" | {ratio:.2f} |")
+    # The shape: d ln(sigma) / d(strain) per 0.05 segment, records and simulations.
+    segments = list(zip(REPORT_STRAINS[:-1], REPORT_STRAINS[1:]))
+
+    def slope(xs, ys, a, b):
+        ya, yb = at(xs, ys, a), at(xs, ys, b)
+        return None if not ya or not yb else math.log(yb / ya) / (b - a)
+
+    lines.append("")
+    lines.append("| d ln(sigma)/d(strain) | " + " | ".join(f"{a:.2f}-{b:.2f}" for a, b in segments) + " |")
+    lines.append("|---|" + "---:|" * len(segments))
+    rs = [[slope(r["strain"], r["axial"], a, b) for r in recs.values()] for a, b in segments]
+    lines.append("| six records, min-max | " + " | ".join(
+        f"{min(v for v in x if v):.1f}-{max(v for v in x if v):.1f}" for x in rs) + " |")
+    for name, (label, runs) in curves.items():
+        grid = sorted({e for ab in segments for e in ab})
+        m = dict(zip(grid, mean_curve(runs, "opposite", grid)))
+        cells = [fmt(math.log(m[b] / m[a]) / (b - a) if m[a] and m[b] else None) for a, b in segments]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
+    prev = previous_fit()
+    if prev:
+        cells = [fmt(math.log(prev[b] / prev[a]) / (b - a)) for a, b in segments]
+        lines.append("| previous fit (E 7.25 GPa), 3 seeds | " + " | ".join(cells) + " |")
+    # Lateral over axial at each report strain.
+    lines.append("")
+    lines.append("| lateral/axial | " + " | ".join(f"{e:.2f}" for e in REPORT_STRAINS) + " |")
+    lines.append("|---|" + "---:|" * len(REPORT_STRAINS))
+    rl = [[at(r["strain"], r["radial"], e) / at(r["strain"], r["axial"], e)
+           for r in recs.values() if at(r["strain"], r["axial"], e)] for e in REPORT_STRAINS]
+    lines.append("| six records, min-max | " + " | ".join(
+        f"{min(x):.2f}-{max(x):.2f}" for x in rl) + " |")
+    for name, (label, runs) in curves.items():
+        lat = mean_curve(runs, "lateral", REPORT_STRAINS)
+        ax = mean_curve(runs, "opposite", REPORT_STRAINS)
+        lines.append(f"| {label} | " + " | ".join(
+            fmt(l / a if l and a else None, 2) for l, a in zip(lat, ax)) + " |")
+    # Energy account and comminution of the shipped scene's runs.
+    for name, (label, runs) in curves.items():
+        for seed in SEEDS:
+            path = os.path.join(WORK, f"{name}_seed{seed}", "summary.json")
+            if not os.path.exists(path):
+                continue
+            sm = json.load(open(path))
+            e = sm.get("energy", {}).get("balance_error_relative")
+            c = sm.get("comminution", {})
+            lines.append(f"- {label}, seed {seed}: energy balance {fmt(100 * e if e is not None else None, 2)}%, "
+                         f"bodies {c.get('bodies')}, generations {c.get('generations')}, "
+                         f"at the comminution limit {c.get('at_comminution_limit')}, "
+                         f"initial mean stress {fmt(sm.get('initial_mean_stress', 0) / 1e3, 1)} kPa, "
+                         f"coordination {fmt(sm.get('initial_coordination'), 2)}, "
+                         f"wall time {fmt(sm.get('wall_seconds'), 0)} s, steps {sm.get('steps')}")
     print("\n".join(lines))
+    if args.csv:
+        with open(args.csv, "w") as f:
+            f.write("run,axial_strain,stress_opposite_MPa,stress_driven_MPa,stress_lateral_MPa\n")
+            names = sorted(d for d in os.listdir(WORK) if os.path.isdir(os.path.join(WORK, d))
+                           and os.path.exists(os.path.join(WORK, d, "summary.json")))
+            for d in names:
+                r = series(os.path.join(WORK, d))
+                for e in REPORT_STRAINS:
+                    v = [at(r["strain"], r[k], e) for k in ("opposite", "driven", "lateral")]
+                    if all(x is not None for x in v):
+                        f.write(f"{d},{e},{v[0]:.4f},{v[1]:.4f},{v[2]:.4f}\n")
     # The power of density at 0.1 and 0.2 strain (least squares in log-log over all densities).
     for e in (0.10, 0.20):
         xs, ys = [], []
@@ -315,7 +366,7 @@ def plot(folder, recs, curves):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     os.makedirs(folder, exist_ok=True)
-    fig, (ax, bx) = plt.subplots(1, 2, figsize=(11, 4.2))
+    fig, (ax, sx, bx) = plt.subplots(1, 3, figsize=(15, 4.4))
     grid = [0.005 * k for k in range(1, 54)]
     lo = [min((v for v in (at(r["strain"], r["axial"], e) for r in recs.values()) if v is not None), default=None) for e in grid]
     hi = [max((v for v in (at(r["strain"], r["axial"], e) for r in recs.values()) if v is not None), default=None) for e in grid]
@@ -331,10 +382,36 @@ def plot(folder, recs, curves):
         ax.plot([grid[k] for k in ok], [m[k] for k in ok], color=c, label=label)
         ax.fill_between([grid[k] for k in ok], [m[k] - sd[k] for k in ok],
                         [m[k] + sd[k] for k in ok], color=c, alpha=0.2)
+    prev = previous_fit()
+    if prev:
+        es = sorted(prev)
+        ax.plot(es, [prev[e] for e in es], "k--o", ms=3, label="previous fit, E 7.25 GPa (3 seeds)")
+    ax.set_yscale("log")
     ax.set_xlabel("axial strain")
     ax.set_ylabel("axial stress, transmitted face (MPa)")
-    ax.set_title("Mason sand, 387 1/s: records and simulations (mean ± sd of 3 seeds)")
-    ax.legend(fontsize=7)
+    ax.set_title("Mason sand, 387 1/s (mean ± sd of 3 seeds)", fontsize=9)
+    ax.legend(fontsize=6)
+    # The log-slope per 0.05 segment.
+    segments = list(zip(REPORT_STRAINS[:-1], REPORT_STRAINS[1:]))
+    mids = [0.5 * (a + b) for a, b in segments]
+    for r in recs.values():
+        sl = [math.log(at(r["strain"], r["axial"], b) / at(r["strain"], r["axial"], a)) / (b - a)
+              if at(r["strain"], r["axial"], b) else None for a, b in segments]
+        ok = [k for k in range(len(mids)) if sl[k]]
+        sx.plot([mids[k] for k in ok], [sl[k] for k in ok], color="0.6", lw=0.8)
+    sx.plot([], [], color="0.6", label="records")
+    for (name, (label, runs)), c in zip(curves.items(), colors):
+        m = mean_curve(runs, "opposite", REPORT_STRAINS)
+        sl = [math.log(m[k + 1] / m[k]) / 0.05 if m[k] and m[k + 1] else None for k in range(len(segments))]
+        ok = [k for k in range(len(mids)) if sl[k]]
+        sx.plot([mids[k] for k in ok], [sl[k] for k in ok], "-o", ms=3, color=c, label=label)
+    if prev:
+        sl = [math.log(prev[b] / prev[a]) / (b - a) for a, b in segments]
+        sx.plot(mids, sl, "k--o", ms=3, label="previous fit")
+    sx.set_xlabel("axial strain (segment centre)")
+    sx.set_ylabel("d ln(stress) / d(strain)")
+    sx.set_title("shape: the records' slope is constant", fontsize=9)
+    sx.legend(fontsize=6)
     for t, r in recs.items():
         bx.plot(r["strain"], r["radial"], color="0.6", lw=0.8)
     if "scene" in curves:
@@ -355,15 +432,17 @@ def plot(folder, recs, curves):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("what", choices=["calibrate", "predict", "report"])
+    ap.add_argument("what", choices=["calibrate", "predict", "report", "runs"])
     ap.add_argument("--jobs", type=int, default=3)
-    ap.add_argument("--budget", type=int, default=12)
     ap.add_argument("--plots")
+    ap.add_argument("--csv", help="report: write every run's stresses at the report strains here")
     args = ap.parse_args()
     if args.what == "calibrate":
         calibrate(args)
     elif args.what == "predict":
         predict(args)
+    elif args.what == "runs":
+        runs(args)
     else:
         report(args)
 

@@ -205,3 +205,98 @@ fn the_calibrated_mason_sand_scene_runs_to_0_02_strain_at_reduced_size() {
     let got = s["stress_opposite_at_strain"]["0.02"].as_f64().unwrap();
     assert!((got - want).abs() <= 1e-9 * want.abs(), "{got} {want}");
 }
+
+/// The jammed preparation: at the laboratory's loosest and near its densest density, in a
+/// 2 mm box, the sample lands at the fraction of the grains drawn (within the protocol's
+/// stated 0.003) and carries load before the platen moves: the stress it jammed at on its
+/// faces and at least four contacts per grain (the isostatic count of frictional grains; a sample
+/// compressed without friction below jamming has neither).
+#[test]
+fn jammed_mason_sand_carries_load_before_loading_at_0_574_and_0_66() {
+    for phi in [0.574, 0.66] {
+        let (_dir, s, _) = run_scene(
+            SCENE,
+            &[
+                "--set",
+                "sample.box=[2e-3,2e-3,2e-3]",
+                "--set",
+                &format!("sample.solid_fraction={phi}"),
+                "--set",
+                "loading.end_strain=0.001",
+                "--set",
+                "output.report_strains=[0.001]",
+            ],
+        );
+        let built = s["solid_fraction_initial"].as_f64().unwrap();
+        // Grains are drawn until they fill the fraction: at most one grain more (1.6% of this
+        // box for the largest grain), then jammed within 0.002 of what they fill.
+        assert!(
+            built >= phi - 0.002 && built < phi + 0.018,
+            "{phi}: {built}"
+        );
+        let stress = s["initial_mean_stress"].as_f64().unwrap();
+        let z = s["initial_coordination"].as_f64().unwrap();
+        // Jammed: settled, the grains still carried the protocol's filling pressure, ten times
+        // fractum::sample::JAM_PER_MODULUS of E/(1 - ν²), on the mean of the faces.
+        let modulus = 95e9 / (1.0 - 0.18f64.powi(2));
+        let jammed = 10.0 * fractum::sample::JAM_PER_MODULUS * modulus;
+        assert!(stress >= jammed, "{phi}: {stress} Pa");
+        assert!(z >= 4.0, "{phi}: {z} contacts per grain");
+    }
+}
+
+/// The particle strength the scene's Hoek–Brown σc stands for, measured as a crushing test
+/// measures it: the scene's own grain material between flat platens (scenes/crush_grain.toml
+/// with a sphere of the reference radius, the Mason scene's E, ν and σc, no Weibull scatter)
+/// breaks at its first force peak at F = (2π/3) σc x_M² (a sphere under two opposite forces
+/// F carries the average stress 3F/(2π x_M²) along them: Hoek–Brown with σ3 = 0 fails at
+/// σc), i.e. a particle strength F/d² = (π/6) σc; and the Hertz edge stress (Eq. 17) at its
+/// platen contacts at that force, worked out here by hand, is the contact strength the scene
+/// derives from σc (fracture::platen_contact_strength).
+#[test]
+fn the_scene_s_particle_strength_is_what_its_grain_shows_between_platens() {
+    let scene = shipped(&[]);
+    let f = &scene.tables["fracture"];
+    let m = &scene.tables["material"];
+    let num = |t: &toml::Value, k: &str| t[k].as_float().unwrap();
+    let (sigma_c, x_m) = (num(f, "sigma_c"), num(f, "reference_radius"));
+    let (young, nu) = (num(m, "young"), num(m, "poisson"));
+    let strength = fractum::fracture::platen_contact_strength(sigma_c, x_m, young, nu);
+    let (_dir, s, _) = run_scene(
+        "scenes/crush_grain.toml",
+        &[
+            "--set",
+            r#"effects=["contact","damping","friction","fracture"]"#,
+            "--set",
+            &format!("sample.semi_axes=[{x_m:e},{x_m:e},{x_m:e},{x_m:e},{x_m:e},{x_m:e}]"),
+            "--set",
+            &format!("material.young={young:e}"),
+            "--set",
+            &format!("material.poisson={nu}"),
+            "--set",
+            &format!("fracture.sigma_c={sigma_c:e}"),
+            "--set",
+            &format!("fracture.reference_strength={strength:e}"),
+            "--set",
+            "loading.end_displacement=0.03e-3",
+        ],
+    );
+    let peak = s["first_peak_force"].as_f64().unwrap();
+    let want = 2.0 * std::f64::consts::PI / 3.0 * sigma_c * x_m * x_m;
+    // The platens move at 6 mm/s: the grain's inertia adds to the average stress by
+    // (ρ a x_M) / σc, below 1e-6 here; 2% covers the peak's sampling (a row every 50 steps).
+    assert!(
+        (peak / want - 1.0).abs() < 0.02,
+        "first peak {peak} N, Hoek-Brown {want} N"
+    );
+    assert_eq!(
+        s["splits"]["hoek_brown"].as_u64().unwrap(),
+        s["splits"]["total"].as_u64().unwrap()
+    );
+    // Hertz between the sphere and a platen (same material, as the contact law takes walls).
+    let e_star = young / (2.0 * (1.0 - nu * nu));
+    let a = (3.0 * want * x_m / (4.0 * e_star)).cbrt();
+    let q0 = 3.0 * want / (2.0 * std::f64::consts::PI * a * a);
+    let edge = (1.0 - 2.0 * nu) / 3.0 * q0;
+    assert!((edge / strength - 1.0).abs() < 1e-12, "{edge} {strength}");
+}
