@@ -236,10 +236,10 @@ fn jammed_mason_sand_carries_load_before_loading_at_0_574_and_0_66() {
         );
         let stress = s["initial_mean_stress"].as_f64().unwrap();
         let z = s["initial_coordination"].as_f64().unwrap();
-        // Jammed: settled, the grains still carried the protocol's filling pressure, ten times
+        // Jammed: settled, the grains still carried the protocol's jamming pressure,
         // fractum::sample::JAM_PER_MODULUS of E/(1 - ν²), on the mean of the faces.
         let modulus = 95e9 / (1.0 - 0.18f64.powi(2));
-        let jammed = 10.0 * fractum::sample::JAM_PER_MODULUS * modulus;
+        let jammed = fractum::sample::JAM_PER_MODULUS * modulus;
         assert!(stress >= jammed, "{phi}: {stress} Pa");
         assert!(z >= 4.0, "{phi}: {z} contacts per grain");
     }

@@ -293,6 +293,12 @@ pub struct FractionSpec {
     /// The filling and the jamming pressure as fractions of E/(1 − ν²) (see
     /// [`FILL_PRESSURE_PER_MODULUS`], [`JAM_PRESSURE_PER_MODULUS`], the defaults).
     pub pressures_per_modulus: (f64, f64),
+    /// `false` (the default): the grains count as jammed short of the target size when,
+    /// settled, they carry the filling pressure, and at the target size they are held until
+    /// at rest. `true`, for a search of where grains jam: short of the target they count as
+    /// jammed once, settled, they carry the jamming pressure; at the target size they are
+    /// stopped where they are (velocities zeroed) without waiting for them to settle.
+    pub search: bool,
 }
 
 impl FractionSpec {
@@ -457,7 +463,7 @@ pub fn compact_to_fraction(
                 c.steps
             ));
         }
-        let jammed = if at_target {
+        let jammed = if at_target || spec.search {
             mean_stress >= jam_pressure
         } else {
             mean_stress >= fill_pressure
@@ -469,7 +475,7 @@ pub fn compact_to_fraction(
                 stress: mean_stress,
             }));
         }
-        if settled && at_target {
+        if (settled || (spec.search && at_target)) && at_target {
             for i in 0..bodies.len() {
                 bodies.vel[i] = Vec3::zeros();
                 bodies.omega[i] = Vec3::zeros();

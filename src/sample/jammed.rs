@@ -35,10 +35,11 @@ use crate::state::{Bodies, Walls};
 
 /// The stress at which a compressed sample counts as jammed, as a fraction of E/(1 − ν²):
 /// the faces wait whenever the grains carry ten times this, and the grains are jammed when,
-/// settled at rest, they still do. Hertz overlaps are then about 10⁻⁴ of a grain's radius,
-/// so the fraction found is the jamming fraction to about 3·10⁻⁴. The sample starts loading
-/// carrying it: for quartz about 0.1 MPa, a light seating of the specimen far below what
-/// loading brings (several MPa at 3% strain for sand).
+/// settled at rest, they still carry this. Hertz overlaps are then at most about 10⁻⁴ of a
+/// grain's radius, so the fraction found is the jamming fraction to about 3·10⁻⁴. The sample
+/// starts loading carrying what it settled with: for quartz between about 10 kPa and 0.1
+/// MPa, a light seating of the specimen far below what loading brings (several MPa at 3%
+/// strain for sand).
 pub const JAM_PER_MODULUS: f64 = 1e-7;
 /// The solid fraction of the loose sample every search starts from, whatever is asked: below
 /// the loosest jammed packings of frictional grains (spheres of infinite friction jam near
@@ -110,6 +111,7 @@ pub fn compact_jammed(
         size: size * scale,
         friction: 0.0,
         pressures_per_modulus: FractionSpec::DEFAULT_PRESSURES,
+        search: true,
     };
     let steps = match compact_to_fraction(bodies, walls, &fill, progress)? {
         Ok(r) => r.steps,
@@ -133,6 +135,7 @@ pub fn compact_jammed(
             size: dense,
             friction: mu,
             pressures_per_modulus: (10.0 * JAM_PER_MODULUS, JAM_PER_MODULUS),
+            search: true,
         };
         let phi = match compact_to_fraction(&mut b, &mut w, &c, &mut |_| {})? {
             Err(j) => j.reached,

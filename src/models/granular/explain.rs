@@ -120,7 +120,7 @@ fn describe_sample(cfg: &GranularScene) -> String {
                     "placed at a low solid fraction (bounding spheres at 0.4), then compressed by the box's faces without friction to the fraction (friction restored for loading)"
                 }
                 Packing::Jammed => {
-                    "placed at a low solid fraction (bounding spheres at 0.4), compressed without friction to 0.45, then compressed until they jam (at rest, carrying 1e-6 of their modulus) with a friction searched between none and the grains' own until the jammed grains fill the fraction within 0.003; loading starts from there with the grains' own friction"
+                    "placed at a low solid fraction (bounding spheres at 0.4), compressed without friction to 0.45, then compressed until they jam (at rest, carrying 1e-7 of their modulus) with a friction searched between none and the grains' own until the jammed grains fill the fraction within 0.003; loading starts from there with the grains' own friction"
                 }
             };
             let (grains, radii) = match &r.shape {

@@ -480,6 +480,7 @@ fn compacted_sample(
         size: target,
         friction: 0.0,
         pressures_per_modulus: FractionSpec::DEFAULT_PRESSURES,
+        search: false,
     };
     let report = compact_to_fraction(&mut b, &mut walls, &spec, progress)?.map_err(|j| {
         let at = if j.reached < j.target - 5e-4 {
