@@ -28,7 +28,8 @@ pub use compaction::{
     compact_to_pressure,
 };
 pub use import::{
-    ELLIPSOID_COLUMNS, EllipsoidGrain, read_ellipsoid_assembly, read_lammps_data, read_text_packing,
+    ELLIPSOID_COLUMNS, EllipsoidGrain, GRAIN_ASPECT_MAX, check_assembly_overlaps,
+    read_ellipsoid_assembly, read_lammps_data, read_text_packing,
 };
 pub use lattice::{hcp_positions, simple_cubic_positions};
 pub use random_pack::{PackReport, pack_geometric};

@@ -12,8 +12,8 @@ use super::scene::{
 use crate::error::Result;
 use crate::sample::{
     CompactionSpec, EllipsoidGrain, FractionSpec, STREAM_ORIENTATIONS, STREAM_POSITIONS,
-    STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box, compact_to_fraction,
-    compact_to_pressure, hcp_positions, pack_geometric, random_orientation,
+    STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box, check_assembly_overlaps,
+    compact_to_fraction, compact_to_pressure, hcp_positions, pack_geometric, random_orientation,
     read_ellipsoid_assembly, read_lammps_data, read_text_packing, simple_cubic_positions, stream,
     truncated_normal_radii,
 };
@@ -231,6 +231,10 @@ fn read_grains(scene: &Scene, key: &str, file: &str) -> Result<Vec<EllipsoidGrai
         .map_err(|m| scene.key_error(key, format!("= \"{file}\": {m}")))
 }
 
+/// The least solid fraction an ellipsoid assembly may hold in the box its grains span (the
+/// shipped one holds 0.583).
+const ASSEMBLY_FRACTION_MIN: f64 = 0.01;
+
 /// `kind = "ellipsoid_assembly"`: the file's grains as they are (semi-axes, centres, axes), in
 /// the box their extents span.
 fn ellipsoid_assembly(scene: &Scene, cfg: &GranularScene, file: &str) -> Result<(Bodies, Walls)> {
@@ -253,6 +257,46 @@ fn ellipsoid_assembly(scene: &Scene, cfg: &GranularScene, file: &str) -> Result<
         });
         lo = lo.inf(&(g.centre - ext));
         hi = hi.sup(&(g.centre + ext));
+    }
+    check_assembly_overlaps(&grains)
+        .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
+    // The box is the one the grains span: one grain far from the others (a centre at 1 m, or
+    // 1e300 m, among sub-millimetre grains) would make it that large, and the run would go
+    // through a box of air without a word.
+    let size = hi - lo;
+    let fraction = grains.iter().map(|g| volume(&g.semi)).sum::<f64>() / (size.x * size.y * size.z);
+    if fraction.is_nan() || fraction < ASSEMBLY_FRACTION_MIN {
+        let mut median = Vec3::zeros();
+        for k in 0..3 {
+            let mut c: Vec<f64> = grains.iter().map(|g| g.centre[k]).collect();
+            c.sort_by(f64::total_cmp);
+            median[k] = c[c.len() / 2];
+        }
+        let far = grains
+            .iter()
+            .max_by(|a, b| {
+                (a.centre - median)
+                    .norm()
+                    .total_cmp(&(b.centre - median).norm())
+            })
+            .expect("an assembly holds grains");
+        return Err(scene.key_error(
+            "sample.file",
+            format!(
+                "= \"{file}\": line {}: the grain at ({:e}, {:e}, {:e}) m lies {:.3e} m from the \
+                 others' median centre, so the box the grains span ({:.3e} × {:.3e} × {:.3e} m) \
+                 holds them at solid fraction {fraction:.3e}; an assembly's grains must fill at \
+                 least {ASSEMBLY_FRACTION_MIN} of the box they span",
+                far.line,
+                far.centre.x,
+                far.centre.y,
+                far.centre.z,
+                (far.centre - median).norm(),
+                size.x,
+                size.y,
+                size.z
+            ),
+        ));
     }
     Ok((b, Walls::new_box(lo, hi)))
 }
