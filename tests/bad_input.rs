@@ -1062,3 +1062,137 @@ fn beam_breaking_rule_without_beam_breaking_is_refused() {
         ],
     );
 }
+
+/// `fractum resume CHECKPOINT --out OUT --quiet`, killed (and the test failed) if it is still
+/// running after `seconds`: a forged clock used to run without an end.
+fn resume_within(cwd: &Path, checkpoint: &Path, out: &Path, seconds: u64) -> std::process::Output {
+    let mut child = std::process::Command::new(common::fractum_bin())
+        .args([
+            "resume",
+            checkpoint.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .current_dir(cwd)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let start = std::time::Instant::now();
+    while child.try_wait().unwrap().is_none() {
+        if start.elapsed().as_secs() >= seconds {
+            let _ = child.kill();
+            let _ = child.wait();
+            panic!("{}: still resuming after {seconds} s", checkpoint.display());
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn forged_checkpoint_clocks_are_checked_against_the_limits() {
+    // Re-sealed checkpoints (their checksums made again) whose clocks were changed:
+    // end_step = 2^64 - 1 resumed without the 1e9-step limit, step > end_step printed a
+    // wrapped step count, and dt = 1e-300 exited 0 without advancing.
+    let (dir, good) = checkpoint_at_step_50(60);
+    let saved = fractum::output::checkpoint::load(&good).unwrap();
+    let cases: [(&str, fn(&mut fractum::run::Clock), &str); 4] = [
+        (
+            "end_step",
+            |c| c.end_step = u64::MAX,
+            "ends at step 18446744073709551615",
+        ),
+        ("past", |c| c.step = c.end_step + 5, "past the run's end"),
+        ("dt", |c| c.dt = 1e-300, "more than the limit of 1e9 steps"),
+        (
+            "far",
+            |c| c.end_step = c.step + 2_000_000_000,
+            "more than the limit",
+        ),
+    ];
+    for (name, forge, said) in cases {
+        let mut sim =
+            fractum::models::granular::Simulation::restore(saved.scene.clone(), &saved.state, 1)
+                .unwrap();
+        forge(&mut sim.clock);
+        let forged = dir.path().join(format!("{name}.fcp"));
+        std::fs::write(
+            &forged,
+            fractum::output::checkpoint::encode(&sim, &saved.frames),
+        )
+        .unwrap();
+        let out = dir.path().join(format!("out_{name}"));
+        let o = resume_within(dir.path(), &forged, &out, 60);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains(forged.to_str().unwrap())
+                && stderr.contains("clock")
+                && stderr.contains(said),
+            "{name}: {stderr}"
+        );
+        assert!(!out.exists());
+    }
+    // The unforged state resumes.
+    let o = resume_within(dir.path(), &good, &dir.path().join("out_good"), 60);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Runs a shipped scene with overrides that must be refused as bad input (exit 2, one line, no
+/// folder); returns the line.
+fn refused_shipped(scene: &str, extra: &[&str]) -> String {
+    let (code, stderr, out) = common::run_scene_failing(scene, extra);
+    assert_eq!((code, out), (Some(2), false), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    stderr.trim().to_string()
+}
+
+#[test]
+fn messages_name_the_key_at_fault_with_a_range_that_can_be_met() {
+    // "allowed: material.young >= inf Pa"
+    let line = refused_shipped("scenes/shpb_sand.toml", &["--set", "material.young=5e-324"]);
+    assert!(
+        line.contains("material.young (set with --set) = 5e-324 Pa") && !line.contains("inf Pa"),
+        "{line}"
+    );
+    // "set time.dt to at most 0.000e0 s"
+    let line = refused_shipped(
+        "scenes/beam2d_moduli.toml",
+        &["--set", "material.density=1e-300"],
+    );
+    assert!(
+        line.contains("material.density (set with --set) = 1e-300") && !line.contains("0.000e0"),
+        "{line}"
+    );
+    // A DLSM bar 1e9 m long, and a strain rate of 1e308/s, blamed material.young.
+    for (scene, set) in [
+        ("scenes/dlsm_tensile.toml", "sample.length=1e9"),
+        ("scenes/shpb_sand.toml", "loading.strain_rate=1e308"),
+    ] {
+        let line = refused_shipped(scene, &["--set", set]);
+        assert!(
+            line.contains(": time.dt = \"auto\" gives a step of")
+                && line.contains("the loading is too short or the grains or elements too large")
+                && !line.contains("material.young >="),
+            "{line}"
+        );
+    }
+    // A named choice given as a number: "expected string only, found unit variant".
+    let line = refused_shipped("scenes/shpb_sand.toml", &["--set", "sample.packing=1"]);
+    assert!(
+        line.contains("`sample.packing` (given with --set) has the wrong type: expected a string")
+            && !line.contains("unit variant"),
+        "{line}"
+    );
+    // One grain at a solid fraction: the box is scaled to the count, so the count is at fault,
+    // not "sample.box is too small".
+    let line = refused_shipped("scenes/mason_sand_shpb.toml", &["--set", "sample.count=1"]);
+    assert!(
+        line.contains("sample.count (set with --set) = 1 grains at sample.solid_fraction = 0.574")
+            && line.contains("allowed: sample.count >= about"),
+        "{line}"
+    );
+}

@@ -358,6 +358,29 @@ fn compacted_sample(
     };
     let bounding: Vec<f64> = grains.iter().map(|g| g[0].max(g[1]).max(g[2])).collect();
     let rmax = bounding.iter().copied().fold(0.0, f64::max);
+    if let (
+        true,
+        Amount::Both {
+            count,
+            solid_fraction,
+        },
+    ) = ((0..3).any(|a| target[a] <= 2.0 * rmax), s.amount)
+    {
+        // The box was scaled to hold `count` grains at the fraction: the count is at fault, not
+        // the box the user gave (sample.count = 1 was refused as "sample.box is too small").
+        let edge = (0..3).map(|a| target[a]).fold(f64::INFINITY, f64::min);
+        let needed = (count as f64 * (2.0 * rmax / edge).powi(3)).ceil() + 1.0;
+        return Err(scene.key_error(
+            "sample.count",
+            format!(
+                "= {count} grains at sample.solid_fraction = {solid_fraction} fill a box (sample.box's \
+                 shape, scaled to them) whose shortest edge, {edge:.3e} m, is not longer than the \
+                 largest grain ({:.3e} m across); allowed: sample.count >= about {needed} at \
+                 this fraction (the box grows as the cube root of the count)",
+                2.0 * rmax
+            ),
+        ));
+    }
     if (0..3).any(|a| target[a] <= 2.0 * rmax) {
         return Err(scene.key_error(
             "sample.box",
