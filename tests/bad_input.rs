@@ -1196,3 +1196,39 @@ fn messages_name_the_key_at_fault_with_a_range_that_can_be_met() {
         "{line}"
     );
 }
+
+#[test]
+fn a_packing_file_body_outside_its_box_is_refused_naming_it() {
+    // A centre far outside the box ran on, out of the walls' reach.
+    let dir = tempfile::tempdir().unwrap();
+    let packing = dir.path().join("p.txt");
+    let scene = |box_comment: &str, extra: &str| {
+        std::fs::write(
+            &packing,
+            format!("{box_comment}5e-4 5e-4 5e-4 1e-4\n1.0 5e-4 5e-4 1e-4\n"),
+        )
+        .unwrap();
+        let text = base();
+        let (head, rest) = text.split_once("[sample]").unwrap();
+        let tail = &rest[rest.find("[loading]").unwrap()..];
+        format!(
+            "{head}[sample]\nkind = \"text\"\nfile = \"{}\"\n{extra}{tail}",
+            packing.display()
+        )
+    };
+    fails(
+        &scene("# box 0 0 0 1e-3 1e-3 1e-3\n", ""),
+        &[],
+        &[
+            "sample.file",
+            "the file's box",
+            "does not hold body 2",
+            "centre (1e0",
+        ],
+    );
+    fails(
+        &scene("", "box = [1e-3, 1e-3, 1e-3]\n"),
+        &[],
+        &["sample.box", "does not hold body 2"],
+    );
+}

@@ -213,6 +213,35 @@ fn packing_file(scene: &Scene, f: &FileSample, rho: f64) -> Result<(Bodies, Wall
         (None, Some(size)) => (Vec3::zeros(), Vec3::from(size)),
         (None, None) => bounding_box(&b),
     };
+    // A centre outside the box (by more than its radius: not touching it from inside) ran on
+    // with the body out of reach of the walls, or pushed through one at the first step.
+    let (key, whose) = match (packing.bounds, f.box_size) {
+        (Some(_), _) => ("sample.file", format!("= \"{file}\": the file's box")),
+        (None, Some(size)) => ("sample.box", format!("= {size:?}: the box of \"{file}\"")),
+        (None, None) => ("sample.file", String::new()),
+    };
+    for (i, (p, r)) in b.pos.iter().zip(&b.radius).enumerate() {
+        if (0..3).any(|k| p[k] < lo[k] - r || p[k] > hi[k] + r) {
+            return Err(scene.key_error(
+                key,
+                format!(
+                    "{whose} [{:e}, {:e}] × [{:e}, {:e}] × [{:e}, {:e}] m does not hold body {} \
+                     (centre ({:e}, {:e}, {:e}) m, radius {r:e} m); every centre must lie in \
+                     the box",
+                    lo.x,
+                    hi.x,
+                    lo.y,
+                    hi.y,
+                    lo.z,
+                    hi.z,
+                    i + 1,
+                    p.x,
+                    p.y,
+                    p.z
+                ),
+            ));
+        }
+    }
     Ok((b, Walls::new_box(lo, hi), held))
 }
 
