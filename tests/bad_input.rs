@@ -1098,7 +1098,8 @@ fn forged_checkpoint_clocks_are_checked_against_the_limits() {
     // wrapped step count, and dt = 1e-300 exited 0 without advancing.
     let (dir, good) = checkpoint_at_step_50(60);
     let saved = fractum::output::checkpoint::load(&good).unwrap();
-    let cases: [(&str, fn(&mut fractum::run::Clock), &str); 4] = [
+    type Forge = fn(&mut fractum::run::Clock);
+    let cases: [(&str, Forge, &str); 4] = [
         (
             "end_step",
             |c| c.end_step = u64::MAX,

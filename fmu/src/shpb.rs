@@ -184,15 +184,15 @@ impl Shpb {
         }
         let path = resources.join(rel);
         // A link inside resources/ may point anywhere: the file it reaches must be inside too.
-        if let (Ok(real), Ok(root)) = (path.canonicalize(), resources.canonicalize()) {
-            if !real.starts_with(&root) {
-                return Err(format!(
-                    "parameter scene = \"{}\" must be a path inside the FMU's resources folder \
-                     (it is a link to {}, outside it)",
-                    self.vars.scene,
-                    real.display()
-                ));
-            }
+        if let (Ok(real), Ok(root)) = (path.canonicalize(), resources.canonicalize())
+            && !real.starts_with(&root)
+        {
+            return Err(format!(
+                "parameter scene = \"{}\" must be a path inside the FMU's resources folder \
+                 (it is a link to {}, outside it)",
+                self.vars.scene,
+                real.display()
+            ));
         }
         Ok(path)
     }

@@ -64,7 +64,13 @@ pub fn dense_packing(
             t.insert("file".into(), format!("dense_{bodies}.txt").into());
             // The packing is made: the keys that made it do not apply to a file (and are
             // refused there).
-            for key in ["box", "pressure", "compaction_friction", "count", "solid_fraction"] {
+            for key in [
+                "box",
+                "pressure",
+                "compaction_friction",
+                "count",
+                "solid_fraction",
+            ] {
                 t.remove(key);
             }
         }
