@@ -32,20 +32,36 @@ VENV = os.path.dirname(BIN_DIR)
 
 
 def fractum_bin():
-    exe = os.path.join(ROOT, "target", "release", "fractum")
+    target = os.environ.get("CARGO_TARGET_DIR", os.path.join(ROOT, "target"))
+    exe = os.path.join(target, "release", "fractum")
     subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "fractum"], cwd=ROOT, check=True)
     return exe
+
+
+def bench_table(text):
+    """The rows of `fractum bench`'s markdown table as dicts by column name (the columns are
+    read from its header: a seventh, `case`, came first and broke positions fixed at six)."""
+    rows, header = [], None
+    for line in text.splitlines():
+        if not line.strip().startswith("|"):
+            continue
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if header is None:
+            header = cells
+        elif len(cells) == len(header) and not set(cells[0]) <= set("-:"):
+            rows.append(dict(zip(header, cells)))
+    if not rows or not {"threads", "contacts", "particle-steps/s"} <= set(header):
+        raise SystemExit("fractum bench printed no table with threads, contacts and particle-steps/s:\n" + text)
+    return rows
 
 
 def fractum_rates(n, steps):
     out = subprocess.run([fractum_bin(), "bench", "--bodies", str(n), "--threads", "1,2", "--steps", str(steps)],
                          cwd=ROOT, capture_output=True, text=True, check=True).stdout
     rates, contacts = {}, None
-    for line in out.splitlines():
-        cells = [c.strip() for c in line.strip().strip("|").split("|")]
-        if len(cells) == 6 and cells[0].isdigit():
-            rates[int(cells[1])] = float(cells[5])
-            contacts = int(cells[2])
+    for row in bench_table(out):
+        rates[int(row["threads"])] = float(row["particle-steps/s"])
+        contacts = int(row["contacts"])
     return rates, contacts
 
 

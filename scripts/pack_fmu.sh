@@ -6,21 +6,30 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
 target=${CARGO_TARGET_DIR:-$root/target}
-# A portable binary: linked by zig against glibc 2.17 (RHEL 7 and later; the system linker's
-# build needs the build machine's glibc, 2.35 here) with libc++ inside. cargo-zigbuild and zig
-# come from PyPI into .venv (make test installs them); without them the system build is packed,
-# with a warning. Either build exports the 34 fmi2 functions only (fmu/build.rs).
+# A portable binary, always: linked by zig against glibc 2.17 (RHEL 7 and later; the system
+# linker's build needs the build machine's glibc, 2.35 here) with libc++ inside. Installed here
+# when missing, as make test does: libclang-dev (fmi-sys's bindgen) with apt-get, ziglang and
+# cargo-zigbuild from PyPI into .venv. Where they cannot be had the script fails: a binary tied
+# to this machine's glibc was packed before, with a warning only. The binary exports the 34
+# fmi2 functions only (fmu/build.rs).
+source scripts/setup.sh
+need_debian_packages libclang-dev binutils
+need_python_packages ziglang cargo-zigbuild
 PATH="$root/.venv/bin:$PATH"
-if command -v cargo-zigbuild >/dev/null && command -v python-zig >/dev/null; then
-    # From fmu/: zig reports its library folder relative to the working directory when that
-    # holds it (the repository holds .venv), and fmi-sys's bindgen, run from elsewhere, then
-    # missed every header ('stddef.h' file not found).
-    (cd fmu && cargo zigbuild --release -p fractum-fmu --target x86_64-unknown-linux-gnu.2.17 --target-dir "$target/zig")
-    so="$target/zig/x86_64-unknown-linux-gnu/release/libfractum_shpb.so"
-else
-    echo "warning: cargo-zigbuild or zig not found (pip install ziglang cargo-zigbuild): the FMU's binary needs this machine's glibc" >&2
-    cargo build --release -p fractum-fmu
-    so="$target/release/libfractum_shpb.so"
+command -v cargo-zigbuild >/dev/null && command -v python-zig >/dev/null || {
+    echo "pack_fmu.sh: cargo-zigbuild and zig are needed for the portable binary (pip install ziglang cargo-zigbuild)" >&2
+    exit 1
+}
+# From fmu/: zig reports its library folder relative to the working directory when that
+# holds it (the repository holds .venv), and fmi-sys's bindgen, run from elsewhere, then
+# missed every header ('stddef.h' file not found).
+(cd fmu && cargo zigbuild --release -p fractum-fmu --target x86_64-unknown-linux-gnu.2.17 --target-dir "$target/zig")
+so="$target/zig/x86_64-unknown-linux-gnu/release/libfractum_shpb.so"
+# The promise checked: no symbol from a glibc newer than 2.17.
+newest=$(objdump -T "$so" | grep -o 'GLIBC_[0-9][0-9.]*' | sed 's/GLIBC_//' | sort -t. -k1,1n -k2,2n -k3,3n | tail -1)
+if [ -n "$newest" ] && [ "$(printf '%s\n2.17\n' "$newest" | sort -t. -k1,1n -k2,2n -k3,3n | tail -1)" != "2.17" ]; then
+    echo "pack_fmu.sh: $so needs glibc $newest, above the 2.17 the FMU promises" >&2
+    exit 1
 fi
 stage=$(mktemp -d)
 trap 'rm -rf "$stage"' EXIT

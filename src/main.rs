@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use fractum::driver::{RunOptions, run_to_end};
-use fractum::output::OutputDir;
+use fractum::output::{OutputDir, Start};
 use fractum::{Error, Run, Scene};
 use indicatif::{ProgressBar, ProgressStyle};
 
@@ -174,7 +174,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
             say(&format!("{}: building the sample", scene.name));
             let mut note = |m: &str| say(m);
             let sim = fractum::models::build(scene, options.threads, &mut note)?;
-            run(sim, out, Vec::new(), &options)
+            run(sim, out, Vec::new(), None, &options)
         }
         Command::Resume {
             checkpoint: path,
@@ -189,7 +189,7 @@ fn dispatch(command: Command) -> Result<(), Error> {
                 sim.step(),
                 sim.end_step()
             ));
-            run(sim, out, frames, &options)
+            run(sim, out, frames, Some(&path), &options)
         }
         Command::Export {
             format,
@@ -340,12 +340,20 @@ fn run(
     mut sim: Box<dyn Run>,
     out: PathBuf,
     frames: Vec<fractum::output::Frame>,
+    checkpoint: Option<&std::path::Path>,
     args: &RunArgs,
 ) -> Result<(), Error> {
     let quiet = args.quiet;
-    // The run is set up: only now may the output folder appear.
-    let mut dir = OutputDir::create(&out)?;
-    dir.adopt_frames(frames);
+    // The run is set up: only now may the output folder appear, locked and marked in progress
+    // before anything else is written into it.
+    let start = match checkpoint {
+        Some(checkpoint) => Start::Resume {
+            checkpoint,
+            step: sim.step(),
+        },
+        None => Start::Fresh,
+    };
+    let mut dir = OutputDir::claim(&out, sim.as_ref(), start, frames)?;
     let say = messenger(quiet);
     say(&format!(
         "{}: {} bodies, {} steps of {:.3e} s on {} thread(s)",

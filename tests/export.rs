@@ -4,8 +4,22 @@
 mod common;
 
 use std::path::Path;
+use std::process::Output;
 
 use fractum::Scene;
+
+/// A random sample's scene without the keys a packing file's sample refuses: the amount
+/// (`count`, `solid_fraction`) the file fixes, and `box`, so that the import takes the box from
+/// the file.
+fn as_file_sample(text: &str) -> String {
+    let dropped = ["box = ", "count = ", "solid_fraction = "];
+    let kept: Vec<&str> = text
+        .lines()
+        .filter(|l| !dropped.iter().any(|d| l.starts_with(d)))
+        .collect();
+    assert_eq!(kept.len() + 3, text.lines().count(), "{text}");
+    kept.join("\n")
+}
 
 #[test]
 fn exported_packings_read_back_bit_for_bit() {
@@ -33,8 +47,7 @@ fn exported_packings_read_back_bit_for_bit() {
             format!("sample.kind={kind}"),
             format!("sample.file=\"{}\"", out.join(file).display()),
         ];
-        // Without a `box` key the import takes the box from the file.
-        let import_text = text.replace("box = [3e-3, 3e-3, 3e-3]\n", "");
+        let import_text = as_file_sample(&text);
         let imported_scene =
             Scene::from_toml(&import_text, "t", Path::new("."), &overrides).unwrap();
         let imported =
@@ -111,7 +124,7 @@ fn plugin_data_reads_back_as_the_bodies_it_holds() {
         "sample.kind=lammps_data".to_string(),
         format!("sample.file=\"{}\"", out.join("packing.data").display()),
     ];
-    let import_text = text.replace("box = [3e-3, 3e-3, 3e-3]\n", "");
+    let import_text = as_file_sample(&text);
     let imported_scene = Scene::from_toml(&import_text, "t", Path::new("."), &overrides).unwrap();
     let imported =
         fractum::models::granular::sample::from_scene(&imported_scene, &mut |_| {}).unwrap();
@@ -148,4 +161,72 @@ fn plugin_data_reads_back_as_the_bodies_it_holds() {
         err.contains("sample.file") && err.contains("not FractumInertia"),
         "{err}"
     );
+}
+
+/// `fractum export FORMAT SCENE OUT [extra]` of a shipped scene into a fresh folder: the
+/// process output and the folder.
+fn export_shipped(format: &str, scene: &str, extra: &[&str]) -> (Output, tempfile::TempDir) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let scene = common::repo().join("scenes").join(scene);
+    let mut args = vec![
+        "export",
+        format,
+        scene.to_str().unwrap(),
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    (common::fractum(dir.path(), &args), dir)
+}
+
+#[test]
+fn plain_exports_of_grains_that_are_not_spheres_are_refused_naming_the_plugin() {
+    // The plain exports wrote each poly-ellipsoid as its bounding sphere (crush_grain's grain a
+    // sphere taller than its box; the Mason sand ellipsoids 1.4 times their box) with exit 0.
+    for format in ["lammps", "yade"] {
+        let (o, dir) = export_shipped(format, "crush_grain.toml", &[]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{format}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains("crush_grain.toml")
+                && stderr.contains("1 of the sample's 1 grains are not spheres")
+                && stderr.contains("--plugin"),
+            "{stderr}"
+        );
+        assert!(!dir.path().join("out").exists(), "nothing written");
+    }
+    let (o, dir) = export_shipped("lammps", "crush_grain.toml", &["--plugin", "--quiet"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(dir.path().join("out/packing.data").is_file());
+}
+
+#[test]
+fn plain_exports_say_that_they_leave_the_fracture_effects_out() {
+    let small = [
+        "--set",
+        "sample.box=[3e-3,3e-3,3e-3]",
+        "--set",
+        "sample.solid_fraction=0.45",
+    ];
+    for (format, script) in [("lammps", "in.fractum"), ("yade", "fractum_yade.py")] {
+        let (o, dir) = export_shipped(format, "shpb_sand.toml", &small);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{stderr}");
+        let said = "not exported: the effects \"fracture\", \"cohesion\", \"weibull\"";
+        assert!(
+            stderr.contains(said) && stderr.contains("--plugin"),
+            "{stderr}"
+        );
+        let text = std::fs::read_to_string(dir.path().join("out").join(script)).unwrap();
+        assert!(
+            text.lines().next().unwrap().contains(said),
+            "{script}: {}",
+            text.lines().next().unwrap()
+        );
+    }
+    // A scene without them says nothing of the kind.
+    let (o, _dir) = export_shipped("lammps", "oedometer_spheres.toml", &[]);
+    assert!(o.status.success());
+    assert!(!String::from_utf8_lossy(&o.stderr).contains("not exported"));
 }

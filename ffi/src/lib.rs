@@ -185,8 +185,15 @@ fn register(scene: Scene, threads: i32, out: *mut FractumHandle) -> Result<(), F
     if out.is_null() {
         return Err(null("handle"));
     }
-    let threads = threads.max(0) as usize;
-    let sim = Sim::build(scene, threads).map_err(from_error)?;
+    // A negative count was taken as 0 (every core).
+    if threads < 0 {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        return Err(from_error(fractum::Error::input(
+            "threads",
+            format!("{threads} is outside the allowed range [0, {cores}] (0: every core)"),
+        )));
+    }
+    let sim = Sim::build(scene, threads as usize).map_err(from_error)?;
     let initial = sim.run().save_state();
     let handle = NEXT_HANDLE.fetch_add(1, Ordering::Relaxed);
     let cancel = Arc::new(AtomicBool::new(false));
@@ -322,7 +329,7 @@ fn static_c_str(s: &'static str) -> Result<*const c_char, Failure> {
 
 /// Creates a simulation from a scene file, of whatever model its `model.kind` names.
 /// `overrides` are `count` strings `KEY=VALUE` as for `fractum run --set`; `threads` = 0 uses
-/// every core, more than the machine has is refused (FRACTUM_ERR_INPUT). On success `*handle` is
+/// every core, a negative count or more than the machine has is refused (FRACTUM_ERR_INPUT). On success `*handle` is
 /// set.
 #[unsafe(no_mangle)]
 pub extern "C" fn fractum_create_from_file(

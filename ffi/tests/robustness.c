@@ -204,6 +204,16 @@ int main(void) {
         fractum_free(by_time);
     }
 
+    {
+        /* A negative thread count was taken as 0 (every core). */
+        FractumHandle none = 0;
+        FractumStatus s = fractum_create_from_file(sand, quiet, 2, -1, &none);
+        CHECK(s == FRACTUM_ERR_INPUT && strstr(fractum_last_error(), "threads") &&
+                  strstr(fractum_last_error(), "-1 is outside the allowed range [0, "),
+              "threads = -1 is refused (got %d: %s)", (int)s, fractum_last_error());
+        CHECK(none == 0, "no handle for a refused thread count");
+    }
+
     fractum_free(g_small);
     fractum_free(d_soft);
     fractum_free(d);

@@ -827,6 +827,35 @@ pub extern "C" fn fmi2DeSerializeFMUstate(
     })
 }
 
+/// The arguments of fmi2DoStep against the FMU's time `now`: a finite positive step that moves
+/// the clock, from where the last step ended.
+fn check_step(current: f64, h: f64, now: f64) -> Result<(), String> {
+    // Written so that NaN fails them: a NaN step or time once passed both checks.
+    if !(h.is_finite() && h > 0.0) {
+        return Err(format!(
+            "communicationStepSize = {h:e} s is outside the allowed range (0, inf) s"
+        ));
+    }
+    // The master's clock may carry the round-off of summing its steps.
+    let tolerance = 1e-9 * h.max(now.abs());
+    if !(current.is_finite() && (current - now).abs() <= tolerance) {
+        return Err(format!(
+            "currentCommunicationPoint = {current:e} s is outside the allowed range: the \
+             FMU's time {now:e} s, where its last step ended (within {tolerance:.1e} s)"
+        ));
+    }
+    // A step below the resolution of the clock at `current` (h = 5e-324, or any step at
+    // t = 1e300) advanced nothing and returned fmi2OK.
+    if current + h == current {
+        return Err(format!(
+            "communicationStepSize = {h:e} s is below the resolution of the time at \
+             currentCommunicationPoint = {current:e} s (t + h == t): it would advance nothing; \
+             the allowed range is a step with t + h > t"
+        ));
+    }
+    Ok(())
+}
+
 #[unsafe(no_mangle)]
 pub extern "C" fn fmi2DoStep(
     c: fmi2Component,
@@ -836,21 +865,7 @@ pub extern "C" fn fmi2DoStep(
 ) -> fmi2Status {
     with_instance(c, "fmi2DoStep", |i| {
         i.expect(&[Phase::Running], "fmi2DoStep")?;
-        // Written so that NaN fails them: a NaN step or time once passed both checks.
-        if !(h.is_finite() && h > 0.0) {
-            return Err(format!(
-                "communicationStepSize = {h:e} s is outside the allowed range (0, inf) s"
-            ));
-        }
-        let now = i.model.time();
-        // The master's clock may carry the round-off of summing its steps.
-        let tolerance = 1e-9 * h.max(now.abs());
-        if !(current.is_finite() && (current - now).abs() <= tolerance) {
-            return Err(format!(
-                "currentCommunicationPoint = {current:e} s is outside the allowed range: the \
-                 FMU's time {now:e} s, where its last step ended (within {tolerance:.1e} s)"
-            ));
-        }
+        check_step(current, h, i.model.time())?;
         match i.model.do_step(current, h) {
             Ok(()) => Ok(fmi2Status_fmi2OK),
             Err(StepError::Refused(message)) => Err(message),
@@ -976,6 +991,29 @@ pub extern "C" fn fmi2GetRealOutputDerivatives(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_step_below_the_clocks_resolution_is_refused() {
+        // doStep(t, h) with t + h == t returned fmi2OK and did nothing.
+        for (t, h) in [(0.0, 1e-6), (1e-6, 1e-6), (1e300, 1e300)] {
+            assert_eq!(check_step(t, h, t), Ok(()), "{t} {h}");
+        }
+        for (t, h) in [(1e-6, 5e-324), (2e-6, 1e-30), (1e300, 1e-6)] {
+            let e = check_step(t, h, t).unwrap_err();
+            assert!(
+                e.starts_with("communicationStepSize = ")
+                    && e.contains("t + h == t")
+                    && e.contains("allowed"),
+                "{t} {h}: {e}"
+            );
+        }
+        // The other arguments are named first.
+        assert!(
+            check_step(f64::INFINITY, 1.0, 0.0)
+                .unwrap_err()
+                .starts_with("currentCommunicationPoint = ")
+        );
+    }
 
     #[test]
     fn resource_uris_are_percent_decoded() {

@@ -182,7 +182,19 @@ impl Shpb {
                 self.vars.scene
             ));
         }
-        Ok(resources.join(rel))
+        let path = resources.join(rel);
+        // A link inside resources/ may point anywhere: the file it reaches must be inside too.
+        if let (Ok(real), Ok(root)) = (path.canonicalize(), resources.canonicalize())
+            && !real.starts_with(&root)
+        {
+            return Err(format!(
+                "parameter scene = \"{}\" must be a path inside the FMU's resources folder \
+                 (it is a link to {}, outside it)",
+                self.vars.scene,
+                real.display()
+            ));
+        }
+        Ok(path)
     }
 
     /// The specimen's scene: the `scene` parameter's file with `seed`, no VTK and no series
@@ -194,6 +206,15 @@ impl Shpb {
             "output.every=1000000000".to_string(),
         ];
         let path = self.scene_path(resources)?;
+        // Another model's scene was read as a granular one and refused for keys it rightly has.
+        let own = fractum::Scene::load(&path, &[]).map_err(|e| e.to_string())?;
+        if own.model.kind != "granular" {
+            return Err(format!(
+                "parameter scene = \"{}\" is a {} scene (model.kind = \"{}\"); this FMU runs \
+                 granular SHPB scenes (model.kind = \"granular\") only",
+                self.vars.scene, own.model.kind, own.model.kind
+            ));
+        }
         if !self.vars.fracture {
             // The scene's own effects less the three of grain breakage.
             let scene = fractum::Scene::load(&path, &overrides).map_err(|e| e.to_string())?;
@@ -468,10 +489,18 @@ impl Model for Shpb {
             (Some(bytes), Some(current)) => Some(
                 Simulation::restore(current.scene.clone(), bytes, 1).map_err(|e| e.to_string())?,
             ),
-            (Some(bytes), None) => Some(
-                Simulation::restore(self.scene(resources, saved.vars.seed)?, bytes, 1)
-                    .map_err(|e| e.to_string())?,
-            ),
+            // Built from the state's own configuration (scene, fracture, seed), as
+            // docs/embedding.md says; the instance's parameters refused another variant's state.
+            (Some(bytes), None) => {
+                let theirs = Shpb {
+                    vars: saved.vars.clone(),
+                    ..Shpb::default()
+                };
+                Some(
+                    Simulation::restore(theirs.scene(resources, saved.vars.seed)?, bytes, 1)
+                        .map_err(|e| e.to_string())?,
+                )
+            }
         };
         self.vars = saved.vars.clone();
         self.lo = saved.lo;
@@ -591,5 +620,107 @@ mod tests {
         );
         assert!(m.set_integer(vr::SEED, -1, Phase::Instantiated).is_err());
         assert!(m.set_string(vr::SCENE, None, Phase::Instantiated).is_err());
+    }
+
+    /// A resources folder of its own holding a small granular scene, `small.toml`: 60 spheres
+    /// in a box, with the shipped scene's effects.
+    fn resources(name: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("fractum-fmu-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let scene = r#"
+name = "small"
+seed = 1
+effects = ["contact", "damping", "friction", "fracture", "cohesion"]
+[material]
+young = 60e9
+poisson = 0.17
+density = 2650.0
+friction = 0.5
+restitution = 0.5
+[sample]
+kind = "random"
+count = 60
+radius_mean = 0.3e-3
+radius_sd = 0.05e-3
+box = [3e-3, 3e-3, 3e-3]
+solid_fraction = 0.45
+[fracture]
+mi = 20.56
+sigma_c = 592e6
+reference_strength = 3e9
+toughness = 1.77e6
+[loading]
+kind = "oedometer"
+strain_rate = 200.0
+end_strain = 0.05
+"#;
+        std::fs::write(dir.join("small.toml"), scene).unwrap();
+        dir
+    }
+
+    fn small(resources: &Path, fracture: bool, seed: i32) -> Shpb {
+        let mut m = Shpb::default();
+        m.set_string(vr::SCENE, Some("small.toml".into()), Phase::Instantiated)
+            .unwrap();
+        m.set_boolean(vr::FRACTURE, fracture, Phase::Instantiated)
+            .unwrap();
+        m.set_integer(vr::SEED, seed, Phase::Instantiated).unwrap();
+        m.build(resources).unwrap();
+        m
+    }
+
+    #[test]
+    fn a_fresh_instance_takes_the_configuration_of_the_state_it_restores() {
+        // docs/embedding.md: an instance not built yet takes the state's configuration. It
+        // built the specimen from its own scene and fracture parameters (only the seed came
+        // from the state), so a state of another variant was refused.
+        let res = resources("fresh");
+        let mut saver = small(&res, false, 2);
+        saver.do_step(0.0, 1e-7).unwrap();
+        let saved = saver.save();
+        let mut fresh = Shpb::default();
+        fresh.restore(&saved, &res).unwrap();
+        assert_eq!(fresh.string(vr::SCENE).unwrap(), "small.toml");
+        assert_eq!(fresh.boolean(vr::FRACTURE), Ok(false));
+        assert_eq!(fresh.integer(vr::SEED), Ok(2));
+        saver.do_step(1e-7, 1e-7).unwrap();
+        fresh.do_step(1e-7, 1e-7).unwrap();
+        for r in 2..10 {
+            assert_eq!(fresh.real(r), saver.real(r), "output {r}");
+        }
+        // A built instance of another configuration still refuses it.
+        let mut other = small(&res, true, 2);
+        let e = other.restore(&saved, &res).unwrap_err();
+        assert!(e.contains("fracture = false"), "{e}");
+        let _ = std::fs::remove_dir_all(&res);
+    }
+
+    #[test]
+    fn a_scene_outside_resources_or_of_another_model_is_refused() {
+        let res = resources("outside");
+        let outside = res.with_extension("outside.toml");
+        std::fs::copy(res.join("small.toml"), &outside).unwrap();
+        std::os::unix::fs::symlink(&outside, res.join("link.toml")).unwrap();
+        let mut m = Shpb::default();
+        m.set_string(vr::SCENE, Some("link.toml".into()), Phase::Instantiated)
+            .unwrap();
+        let e = m.build(&res).unwrap_err();
+        assert!(
+            e.contains("must be a path inside the FMU's resources folder") && e.contains("link"),
+            "{e}"
+        );
+        // A DLSM scene: the FMU runs granular scenes, and says so.
+        let dlsm = Path::new(env!("CARGO_MANIFEST_DIR")).join("../scenes/dlsm_tensile.toml");
+        std::fs::copy(dlsm, res.join("dlsm.toml")).unwrap();
+        m.set_string(vr::SCENE, Some("dlsm.toml".into()), Phase::Instantiated)
+            .unwrap();
+        let e = m.build(&res).unwrap_err();
+        assert!(
+            e.contains("is a dlsm scene") && e.contains("this FMU runs granular"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&res);
+        let _ = std::fs::remove_file(&outside);
     }
 }

@@ -23,8 +23,12 @@ FixFractumDt::FixFractumDt(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, a
 {
   if (narg < 4) error->all(FLERR, "{} needs EVERY: {}", STYLE, USAGE);
   double n = utils::numeric(FLERR, arg[3], false, lmp);
-  if (!(n >= 0 && n == std::floor(n)))
-    error->all(FLERR, "{}: EVERY = {} must be an integer >= 0 (steps; 0: check only)", STYLE, n);
+  // Bounded where a double still holds every integer: from 2^63 on the conversion to bigint
+  // is undefined.
+  if (!(n >= 0 && n <= 9007199254740992.0 && n == std::floor(n)))
+    error->all(FLERR,
+               "{}: EVERY = {} must be an integer >= 0 and <= 2^53 (steps; 0: check only)",
+               STYLE, n);
   every = static_cast<bigint>(n);
   int iarg = 4;
   while (iarg < narg) {
@@ -32,8 +36,13 @@ FixFractumDt::FixFractumDt(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, a
     if (key == "omega_dt") {
       if (iarg + 1 >= narg) error->all(FLERR, "{}: omega_dt needs a value", STYLE);
       double x = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
-      if (!(x > 0.0 && x < 2.0))
-        error->all(FLERR, "{}: omega_dt = {} must lie in (0, 2) (velocity Verlet's limit)",
+      // Below 0.001 the step is cut a thousandfold below what the contacts need: omega_dt
+      // 1e-300 ended its run at the step cap at 1% of the loading. Fractum's own X is 3 x
+      // time.safety.
+      if (!(x >= 0.001 && x < 2.0))
+        error->all(FLERR,
+                   "{}: omega_dt = {} must lie in [0.001, 2) (above: velocity Verlet's limit; "
+                   "below: a step far shorter than the contacts need)",
                    STYLE, x);
       omega_dt = x;
       iarg += 2;
@@ -57,6 +66,13 @@ int FixFractumDt::setmask()
 void FixFractumDt::init()
 {
   sums = fractum_sums(lmp, STYLE);
+  // Two would each shorten the step on their own schedule; a second one was taken silently.
+  for (auto &f : modify->get_fix_list())
+    if (f != this && utils::strmatch(f->style, "^fractum/dt$"))
+      error->all(FLERR,
+                 "{} {}: a second fix fractum/dt besides {}; one fix adapts the step, so unfix "
+                 "one of them",
+                 STYLE, id, f->id);
   // It reads the splits of the step: fix fractum/fracture's end of step must come first.
   bool seen_self = false;
   for (auto &f : modify->get_fix_list()) {

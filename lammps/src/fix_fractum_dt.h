@@ -4,11 +4,11 @@
    Verlet stable.
 
    fix ID group fractum/dt EVERY [omega_dt X]
-     EVERY     > 0: adapt as Fractum does with time.dt = "auto": every EVERY steps and in the
+     EVERY     in (0, 2^53]: adapt as Fractum does with time.dt = "auto": every EVERY steps and in the
                step after a split (fix fractum/fracture), the step is shortened so that the
                estimated highest contact frequency omega gives omega dt = X when it is above
                (Fractum: X = 3 x safety). 0: never adapt, check the step at every step.
-     omega_dt  X in (0, 2), default 0.6
+     omega_dt  X in [0.001, 2), default 0.6
 
    Both modes check the step at the setup: omega dt at or above 2 (unstable) stops the run
    with one sentence naming the step to use; above 1.6 a warning, once.

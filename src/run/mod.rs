@@ -74,6 +74,12 @@ impl Clock {
 /// 18446744073709551615 steps and run forever.
 pub const MAX_STEPS: f64 = 1e9;
 
+/// Below this Young's modulus (Pa) a step too long for the loading is the material's fault
+/// (softer than any solid that breaks); above it the loading is too short (a strain rate of
+/// 1e308/s) or the grains or elements too large (a DLSM bar 1e9 m long), and the message says
+/// so instead of asking for a stiffer material.
+const YOUNG_SOFTEST: f64 = 1e6;
+
 /// The fewest steps a run under `time.dt = "auto"` may plan to its end: its step may be at most
 /// half the loading, so that the end is overshot by at most half of it.
 pub const MIN_STEPS: f64 = 2.0;
@@ -100,12 +106,39 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
         // loading) is at fault. A step given in seconds is the user's own, and tests give a
         // long one on purpose to see a run go unstable.
         let longest = end_time / MIN_STEPS;
+        // The critical step grows as 1/√young: the modulus that gives `longest`.
+        let young_needed = young.map(|y| (dt * y.sqrt() / longest).powi(2));
         return Err(match young {
+            Some(young) if young >= YOUNG_SOFTEST => scene.key_error(
+                "time.dt",
+                format!(
+                    "= \"auto\" gives a step of {dt:.3e} s (time.safety x the critical step of the \
+                     material, material.young = {young:e} Pa, and the sample's grains or \
+                     elements), and the loading ends at {end_time:.3e} s: {steps:.2} steps, fewer \
+                     than {MIN_STEPS}; the loading is too short or the grains or elements too large \
+                     for this material: allowed: a loading that lasts at least {:.3e} s (check its \
+                     rate and its end), or time.dt in seconds of at most {longest:.3e} s",
+                    dt * MIN_STEPS
+                ),
+            ),
+            Some(young) if !dt.is_finite() || !young_needed.is_some_and(f64::is_finite) => {
+                // A modulus such as 5e-324 Pa gives an infinite step: "material.young >= inf
+                // Pa" said nothing.
+                scene.key_error(
+                    "material.young",
+                    format!(
+                        "= {young:e} Pa is too soft for time.dt = \"auto\": the step comes out as \
+                         {dt:e} s (it grows as 1/√young), and the loading ends at {end_time:.3e} s; \
+                         allowed: a material.young for which the step is at most half the loading \
+                         (a solid's modulus, 1e6 Pa and up)"
+                    ),
+                )
+            }
             Some(young) => scene.key_error(
                 "material.young",
                 format!(
                     "= {young:e} Pa is too soft for this loading under time.dt = \"auto\": the step comes out as {dt:.3e} s, and the loading (its end at {end_time:.3e} s) would take {steps:.2} steps, fewer than {MIN_STEPS}; allowed: material.young >= {:.3e} Pa at this loading and time.safety, or a loading that lasts at least {:.3e} s",
-                    young * (dt / longest).powi(2),
+                    young_needed.unwrap_or(f64::NAN),
                     dt * MIN_STEPS
                 ),
             ),
@@ -146,6 +179,51 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
             "= {dt:.4e} s{how} needs {steps:.2e} steps to reach the end of the loading at {end_time:.4e} s, more than the limit of 1e9 steps: check time.dt, the material's stiffness and the loading"
         ),
     ))
+}
+
+/// A restored clock against the limits a built run is held to: a run with an end ends within
+/// [`MAX_STEPS`] steps of its step and at the step its end time gives (to 1% and two steps:
+/// a variable step moves both); one without an end (driven from outside) has neither. A
+/// re-sealed checkpoint with `end_step = 2^64 − 1` resumed past the limit, `step > end_step`
+/// printed a wrapped step count, and `dt = 1e-300` exited 0 without advancing.
+fn check_restored_clock(c: &Clock) -> std::result::Result<(), String> {
+    let endless = c.end_time.is_infinite() && c.end_time > 0.0;
+    if endless != (c.end_step == u64::MAX) {
+        return Err(format!(
+            "ends at step {} but at t = {:e} s (a run driven from outside has neither end, any \
+             other both)",
+            c.end_step, c.end_time
+        ));
+    }
+    if endless {
+        return Ok(());
+    }
+    if !c.end_time.is_finite() {
+        return Err(format!("ends at t = {:e} s", c.end_time));
+    }
+    if c.step > c.end_step {
+        return Err(format!(
+            "is at step {}, past the run's end at step {}",
+            c.step, c.end_step
+        ));
+    }
+    let left = (c.end_step - c.step) as f64;
+    let planned = (c.remaining() / c.dt).max(0.0);
+    if left > MAX_STEPS || planned > MAX_STEPS {
+        return Err(format!(
+            "has {left:.4e} steps of {:e} s left to its end at t = {:e} s, more than the limit \
+             of 1e9 steps",
+            c.dt, c.end_time
+        ));
+    }
+    if (left - planned).abs() > 2.0 + 0.01 * left.max(planned) {
+        return Err(format!(
+            "has {left} steps left to its end at step {}, but {planned:.4e} steps of {:e} s to \
+             its end at t = {:e} s",
+            c.end_step, c.dt, c.end_time
+        ));
+    }
+    Ok(())
 }
 
 /// The step at which a loading of `end_time` seconds ends (unbounded for an endless one).
@@ -636,6 +714,12 @@ impl<M: Model> Runner<M> {
                 c.dt
             )));
         }
+        check_restored_clock(c).map_err(|why| {
+            Error::run(format!(
+                "the saved {} state is inconsistent: its clock {why}",
+                M::KIND
+            ))
+        })?;
         let threads = Threads::new(threads)?;
         let model = threads.run(false, || M::restore(&scene, &s.model))?;
         if let Some(i) = model.first_non_finite() {

@@ -29,7 +29,8 @@ pub use compaction::{
     compact_to_pressure,
 };
 pub use import::{
-    ELLIPSOID_COLUMNS, EllipsoidGrain, read_ellipsoid_assembly, read_lammps_data, read_text_packing,
+    ELLIPSOID_COLUMNS, EllipsoidGrain, GRAIN_ASPECT_MAX, check_assembly_overlaps,
+    read_ellipsoid_assembly, read_lammps_data, read_text_packing,
 };
 pub use jammed::{
     FRACTION_TOLERANCE, JAM_PER_MODULUS, JammedReport, JammedShort, JammedSpec, compact_jammed,

@@ -83,6 +83,15 @@ pub fn describe(path: &str, message: &str, overridden: &[String]) -> String {
     }
     if let Some(rest) = message.strip_prefix("invalid type: ") {
         if let Some((found, expected)) = rest.split_once(", expected ") {
+            // A named choice given as a number or a boolean: the TOML reader reports it as a
+            // "unit variant" where "string only" was expected, which said nothing to a user.
+            if found == "unit variant" || expected == "string only" {
+                return format!(
+                    "`{path}`{} has the wrong type: expected a string (one of the key's named \
+                     values, in quotes), found a value that is not a string",
+                    via(path)
+                );
+            }
             return format!(
                 "`{path}`{} has the wrong type: expected {}, found {found}",
                 via(path),

@@ -267,6 +267,9 @@ def test_non_finite_off_clock_or_backward_steps_are_refused_and_change_nothing(u
         (t, inf, "communicationStepSize"),
         (t, 0.0, "communicationStepSize"),
         (t, -1e-6, "communicationStepSize"),
+        # Below the clock's resolution at t (t + h == t): fmi2OK without a step before.
+        (t, 5e-324, "communicationStepSize"),
+        (t, 1e-30, "communicationStepSize"),
     ]:
         with pytest.raises(FMICallException) as e:
             fmu.doStep(currentCommunicationPoint=current, communicationStepSize=h)

@@ -180,8 +180,13 @@ def test_frictionless_spheres_equal_pair_granular(tmp_path):
     # The step adaptation is its own style, after the fracture fix whose splits it reads.
     ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 adapt_dt 10",
      ["fix fractum/fracture", "adapt_dt", "fix fractum/dt"]),
-    ("fix dt all fractum/dt 10 omega_dt 2.5", ["fix fractum/dt", "omega_dt", "(0, 2)"]),
+    ("fix dt all fractum/dt 10 omega_dt 2.5", ["fix fractum/dt", "omega_dt", "[0.001, 2)"]),
     ("fix dt all fractum/dt -1", ["fix fractum/dt", "EVERY", ">= 0"]),
+    # 2^63 and above were converted to a step count with undefined behaviour; omega_dt 1e-300
+    # ended the run at its step cap at 1% of the loading; a second fix was taken silently.
+    ("unfix dt\nfix dt all fractum/dt 9223372036854775808", ["fix fractum/dt", "EVERY", "2^53"]),
+    ("unfix dt\nfix dt all fractum/dt 10 omega_dt 1e-300", ["fix fractum/dt", "omega_dt", "[0.001, 2)"]),
+    ("fix dt2 all fractum/dt 10", ["fix fractum/dt", "a second fix fractum/dt"]),
     ("unfix dt", ["fix fractum/fracture", "needs fix fractum/dt"]),
     ("unfix dt\nunfix fracture\nfix dt all fractum/dt 10\n"
      "fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9",

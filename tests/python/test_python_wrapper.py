@@ -1,5 +1,6 @@
 """The ctypes wrapper (ffi/python/fractum) in plain Python: the SHPB scene, then reduced
 dlsm and beam2d scenes through the generic calls."""
+import ctypes
 import os
 
 import numpy as np
@@ -132,6 +133,30 @@ def test_failures_raise_with_the_status_and_a_sentence():
         fractum.Simulation(SCENE, overrides=QUIET, threads=100000)
     assert e.value.status == "FRACTUM_ERR_INPUT"
     assert "100000" in e.value.message and "cores" in e.value.message
+
+
+def test_thread_counts_that_wrap_or_are_negative_and_nul_in_text_are_refused():
+    # ctypes wraps an int into the C ABI's int32_t: threads=2**40 ran on every core, 2**32 + 1
+    # on one, and -1 was taken as every core; a NUL cut a scene text short without a word.
+    for bad in (-1, -(2**31), 2**31, 2**32 + 1, 2**40):
+        with pytest.raises(ValueError, match=r"threads = .* outside the allowed range \[0, "):
+            fractum.Simulation(SCENE, overrides=QUIET, threads=bad)
+    for bad in (1.5, "2", None, True):
+        with pytest.raises(TypeError, match="whole number"):
+            fractum.Simulation(SCENE, overrides=QUIET, threads=bad)
+    text = open(SCENE).read()
+    with pytest.raises(ValueError, match="NUL character at offset 5"):
+        fractum.Simulation(text=text[:5] + "\0" + text[5:], base_dir=os.path.dirname(SCENE))
+    with pytest.raises(ValueError, match=r"overrides\[1\] holds a NUL"):
+        fractum.Simulation(SCENE, overrides=["output.vtk=0", "seed=1\0"])
+    # The C ABI refuses a negative count itself (another caller than this wrapper).
+    lib = fractum.load_library()
+    handle = ctypes.c_uint64(0)
+    none = (ctypes.c_char_p * 1)()
+    status = lib.fractum_create_from_file(SCENE.encode(), none, 0, -1, ctypes.byref(handle))
+    assert fractum._STATUS[status] == "FRACTUM_ERR_INPUT"
+    with fractum.Simulation(SCENE, overrides=QUIET, threads=np.int64(1)) as sim:
+        assert sim.steps() == 0
 
 
 def test_step_counts_must_be_whole_and_not_negative():

@@ -174,15 +174,46 @@ def _count(name, value):
     return n
 
 
+def _check_threads(threads):
+    """threads as the C ABI's int32_t: 0 (every core) up to the machine's cores, which the
+    library checks. ctypes fills the int by wrapping: 2**40 became 0 (every core), 2**32 + 1
+    became 1 and -1 was taken as every core."""
+    cores = os.cpu_count() or 1
+    if isinstance(threads, bool):
+        raise TypeError(f"threads must be a whole number, not {threads!r}")
+    try:
+        n = operator.index(threads)
+    except TypeError:
+        raise TypeError(f"threads must be a whole number, not {threads!r}") from None
+    if not 0 <= n < 2**31:
+        raise ValueError(f"threads = {n} is outside the allowed range [0, {cores}] "
+                         "(0: every core)")
+    return n
+
+
+def _check_no_nul(what, value):
+    if value is None:
+        return
+    text = os.fsdecode(value) if isinstance(value, (bytes, os.PathLike)) else str(value)
+    if "\0" in text:
+        raise ValueError("%s holds a NUL character at offset %d: a scene, path or override "
+                         "cannot hold one" % (what, text.index("\0")))
+
+
 class Simulation:
     """One simulation inside libfractum. Use it as a context manager, or call close()."""
 
     def __init__(self, scene=None, text=None, base_dir=None, overrides=(), threads=1):
         lib = load_library()
-        arr, n = _strings(list(overrides))
-        handle = ctypes.c_uint64(0)
         if (scene is None) == (text is None):
             raise ValueError("give exactly one of scene (a path) or text (TOML)")
+        threads = _check_threads(threads)
+        # A C string ends at its first NUL: the rest of a text or path was cut off silently.
+        for what, value in [("text", text), ("scene", scene), ("base_dir", base_dir)] + [
+                ("overrides[%d]" % k, o) for k, o in enumerate(overrides)]:
+            _check_no_nul(what, value)
+        arr, n = _strings(list(overrides))
+        handle = ctypes.c_uint64(0)
         if scene is not None:
             _check(lib.fractum_create_from_file(os.fsencode(scene), arr, n, threads, ctypes.byref(handle)))
         else:

@@ -497,6 +497,34 @@ fn explode(
         e += 0.5 * p.mass[*k] * v.norm_squared();
     }
     let scale = (energy / e).sqrt();
+    // The energy is bounded as the projectile's speed is: the polygons move by Newton's laws,
+    // and 1e300 J sent pieces off at 1e151 m/s. The speeds grow as √energy, so the bound is
+    // where the fastest kicked polygon would reach the speed of light.
+    // The same kicks at unit strength (C = 1), which the speeds are proportional to.
+    let unit: Vec<(usize, Vec2)> = kicks
+        .iter()
+        .map(|&(k, s, n)| (k, n * (s / p.mass[k])))
+        .collect();
+    let drift: Vec2 = unit.iter().map(|&(k, v)| v * p.mass[k]).sum::<Vec2>() / kicked_mass;
+    let (mut unit_fastest, mut unit_energy) = (0.0f64, 0.0);
+    for &(k, v) in &unit {
+        let w = v - drift;
+        unit_fastest = unit_fastest.max(w.norm());
+        unit_energy += 0.5 * p.mass[k] * w.norm_squared();
+    }
+    let per_root_joule = unit_fastest / unit_energy.sqrt();
+    let top_speed = per_root_joule * energy.sqrt();
+    if top_speed.is_nan() || top_speed >= super::scene::SPEED_OF_LIGHT {
+        let limit = (super::scene::SPEED_OF_LIGHT / per_root_joule).powi(2);
+        return Err(scene.key_error(
+            "loading.energy",
+            format!(
+                "= {energy:e} J is outside the allowed range (0, {limit:.4e}) J for this \
+                 sample: above it the fastest polygon the explosion kicks would move faster \
+                 than light (the model is Newtonian)"
+            ),
+        ));
+    }
     let explosive_mass = p.mass[k0];
     let explosive_centre = [p.q[k0][0], p.q[k0][1]];
     for (k, v) in &velocity {

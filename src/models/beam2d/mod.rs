@@ -496,6 +496,20 @@ impl Model for Beam2d {
             q: polygons.q.clone(),
             v: polygons.v.clone(),
         });
+        if !dt_critical.is_normal() {
+            // A density of 1e-300 kg/m³ (or a modulus near the largest double) gave a limit of
+            // 0 s and the advice "set time.dt to at most 0.000e0 s".
+            return Err(scene.key_error(
+                "material.density",
+                format!(
+                    "= {:e} kg/m³ with material.young = {:e} Pa (and the beams' modulus) gives a \
+                     stability limit of the step of {dt_critical:e} s, zero or denormal, which \
+                     no step can run under; allowed: a density and moduli of a solid (the limit \
+                     is 2/ω with ω² = 2 Σk/m)",
+                    cfg.material.density, cfg.material.young
+                ),
+            ));
+        }
         // The limit is a bound (Gershgorin: ω² ≤ 2 Σk/m), so every step up to it is stable;
         // above it stability is not assured and was seen to fail (explosion_disc at 1.9x:
         // kinetic energy 10x its initial value). Refused rather than warned.

@@ -14,6 +14,7 @@ use crate::sample::lattice2d::LatticeShape;
 use crate::scene::{EffectKind, NeighborSpec, Scene};
 
 mod raw;
+pub(crate) use raw::SPEED_OF_LIGHT;
 
 pub(super) use raw::{Beam2dScene as RawBeam2dScene, validate};
 

@@ -62,8 +62,17 @@ pub fn dense_packing(
         if let Some(toml::Value::Table(t)) = s.tables.get_mut("sample") {
             t.insert("kind".into(), "text".into());
             t.insert("file".into(), format!("dense_{bodies}.txt").into());
-            t.remove("box");
-            t.remove("pressure");
+            // The packing is made: the keys that made it do not apply to a file (and are
+            // refused there).
+            for key in [
+                "box",
+                "pressure",
+                "compaction_friction",
+                "count",
+                "solid_fraction",
+            ] {
+                t.remove(key);
+            }
         }
         return super::sample::from_scene(&s, progress);
     }

@@ -13,9 +13,9 @@ use crate::error::Result;
 use crate::sample::{
     CompactionSpec, EllipsoidGrain, FractionSpec, JammedShort, JammedSpec, STREAM_ORIENTATIONS,
     STREAM_POSITIONS, STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box,
-    compact_jammed, compact_to_fraction, compact_to_pressure, hcp_positions, pack_geometric,
-    random_orientation, read_ellipsoid_assembly, read_lammps_data, read_text_packing,
-    simple_cubic_positions, stream, truncated_normal_radii,
+    check_assembly_overlaps, compact_jammed, compact_to_fraction, compact_to_pressure,
+    hcp_positions, pack_geometric, random_orientation, read_ellipsoid_assembly,
+    read_lammps_data, read_text_packing, simple_cubic_positions, stream, truncated_normal_radii,
 };
 use crate::scene::Scene;
 use crate::scene::validate::check_bodies;
@@ -291,6 +291,35 @@ fn packing_file(scene: &Scene, f: &FileSample, rho: f64) -> Result<(Bodies, Wall
         (None, Some(size)) => (Vec3::zeros(), Vec3::from(size)),
         (None, None) => bounding_box(&b),
     };
+    // A centre outside the box (by more than its radius: not touching it from inside) ran on
+    // with the body out of reach of the walls, or pushed through one at the first step.
+    let (key, whose) = match (packing.bounds, f.box_size) {
+        (Some(_), _) => ("sample.file", format!("= \"{file}\": the file's box")),
+        (None, Some(size)) => ("sample.box", format!("= {size:?}: the box of \"{file}\"")),
+        (None, None) => ("sample.file", String::new()),
+    };
+    for (i, (p, r)) in b.pos.iter().zip(&b.radius).enumerate() {
+        if (0..3).any(|k| p[k] < lo[k] - r || p[k] > hi[k] + r) {
+            return Err(scene.key_error(
+                key,
+                format!(
+                    "{whose} [{:e}, {:e}] × [{:e}, {:e}] × [{:e}, {:e}] m does not hold body {} \
+                     (centre ({:e}, {:e}, {:e}) m, radius {r:e} m); every centre must lie in \
+                     the box",
+                    lo.x,
+                    hi.x,
+                    lo.y,
+                    hi.y,
+                    lo.z,
+                    hi.z,
+                    i + 1,
+                    p.x,
+                    p.y,
+                    p.z
+                ),
+            ));
+        }
+    }
     Ok((b, Walls::new_box(lo, hi), held))
 }
 
@@ -308,6 +337,10 @@ fn read_grains(scene: &Scene, key: &str, file: &str) -> Result<Vec<EllipsoidGrai
     read_ellipsoid_assembly(&scene.resolve(file))
         .map_err(|m| scene.key_error(key, format!("= \"{file}\": {m}")))
 }
+
+/// The least solid fraction an ellipsoid assembly may hold in the box its grains span (the
+/// shipped one holds 0.583).
+const ASSEMBLY_FRACTION_MIN: f64 = 0.01;
 
 /// `kind = "ellipsoid_assembly"`: the file's grains as they are (semi-axes, centres, axes), in
 /// the box their extents span.
@@ -331,6 +364,46 @@ fn ellipsoid_assembly(scene: &Scene, cfg: &GranularScene, file: &str) -> Result<
         });
         lo = lo.inf(&(g.centre - ext));
         hi = hi.sup(&(g.centre + ext));
+    }
+    check_assembly_overlaps(&grains)
+        .map_err(|m| scene.key_error("sample.file", format!("= \"{file}\": {m}")))?;
+    // The box is the one the grains span: one grain far from the others (a centre at 1 m, or
+    // 1e300 m, among sub-millimetre grains) would make it that large, and the run would go
+    // through a box of air without a word.
+    let size = hi - lo;
+    let fraction = grains.iter().map(|g| volume(&g.semi)).sum::<f64>() / (size.x * size.y * size.z);
+    if fraction.is_nan() || fraction < ASSEMBLY_FRACTION_MIN {
+        let mut median = Vec3::zeros();
+        for k in 0..3 {
+            let mut c: Vec<f64> = grains.iter().map(|g| g.centre[k]).collect();
+            c.sort_by(f64::total_cmp);
+            median[k] = c[c.len() / 2];
+        }
+        let far = grains
+            .iter()
+            .max_by(|a, b| {
+                (a.centre - median)
+                    .norm()
+                    .total_cmp(&(b.centre - median).norm())
+            })
+            .expect("an assembly holds grains");
+        return Err(scene.key_error(
+            "sample.file",
+            format!(
+                "= \"{file}\": line {}: the grain at ({:e}, {:e}, {:e}) m lies {:.3e} m from the \
+                 others' median centre, so the box the grains span ({:.3e} × {:.3e} × {:.3e} m) \
+                 holds them at solid fraction {fraction:.3e}; an assembly's grains must fill at \
+                 least {ASSEMBLY_FRACTION_MIN} of the box they span",
+                far.line,
+                far.centre.x,
+                far.centre.y,
+                far.centre.z,
+                (far.centre - median).norm(),
+                size.x,
+                size.y,
+                size.z
+            ),
+        ));
     }
     Ok((b, Walls::new_box(lo, hi)))
 }
@@ -392,6 +465,29 @@ fn compacted_sample(
     };
     let bounding: Vec<f64> = grains.iter().map(|g| g[0].max(g[1]).max(g[2])).collect();
     let rmax = bounding.iter().copied().fold(0.0, f64::max);
+    if let (
+        true,
+        Amount::Both {
+            count,
+            solid_fraction,
+        },
+    ) = ((0..3).any(|a| target[a] <= 2.0 * rmax), s.amount)
+    {
+        // The box was scaled to hold `count` grains at the fraction: the count is at fault, not
+        // the box the user gave (sample.count = 1 was refused as "sample.box is too small").
+        let edge = (0..3).map(|a| target[a]).fold(f64::INFINITY, f64::min);
+        let needed = (count as f64 * (2.0 * rmax / edge).powi(3)).ceil() + 1.0;
+        return Err(scene.key_error(
+            "sample.count",
+            format!(
+                "= {count} grains at sample.solid_fraction = {solid_fraction} fill a box (sample.box's \
+                 shape, scaled to them) whose shortest edge, {edge:.3e} m, is not longer than the \
+                 largest grain ({:.3e} m across); allowed: sample.count >= about {needed} at \
+                 this fraction (the box grows as the cube root of the count)",
+                2.0 * rmax
+            ),
+        ));
+    }
     if (0..3).any(|a| target[a] <= 2.0 * rmax) {
         return Err(scene.key_error(
             "sample.box",

@@ -46,8 +46,7 @@ pub struct Material {
     pub tangential_damping: Option<f64>,
     /// How the breaking rule's terms combine: "eq13" (default, the paper's Eq. 13 as
     /// printed), "squared", "mean_angle" or "either_sign" (docs/validation.md, "Ablation").
-    #[serde(default)]
-    pub beam_breaking_rule: BreakingForm,
+    pub beam_breaking_rule: Option<BreakingForm>,
 }
 
 /// `[sample]` as written: the vectorizable random lattice.
@@ -179,6 +178,13 @@ fn validate_material(s: &Scene, m: &Material) -> Result<typed::Material> {
             "lists \"beam_breaking\" without \"beams\"; it breaks beams, so add \"beams\"",
         ));
     }
+    if m.beam_breaking_rule.is_some() && !s.has_effect(EffectKind::BeamBreaking) {
+        return Err(s.key_error(
+            "material.beam_breaking_rule",
+            "is given without the \"beam_breaking\" effect; it says how beams break, so remove \
+             it or add \"beam_breaking\" to effects",
+        ));
+    }
     let mut beams = None;
     if s.has_effect(EffectKind::Beams) {
         let why = "for the \"beams\" effect";
@@ -220,7 +226,7 @@ fn validate_material(s: &Scene, m: &Material) -> Result<typed::Material> {
         beams.breaking = Some(BreakingRule {
             strain,
             bending,
-            form: m.beam_breaking_rule,
+            form: m.beam_breaking_rule.unwrap_or_default(),
         });
     }
     let (mut normal_damping, mut tangential_damping) = (0.0, 0.0);
@@ -275,7 +281,7 @@ const EXPLOSION_DISC_SPACINGS: f64 = 12.0;
 
 /// The projectile's speed must stay below this (m/s): the polygons move by Newton's laws, and a
 /// speed of 1e308 m/s, finite itself, gave an infinite kinetic energy in series.csv.
-const SPEED_OF_LIGHT: f64 = 299_792_458.0;
+pub(crate) const SPEED_OF_LIGHT: f64 = 299_792_458.0;
 
 /// `[loading]`, checked against the sample, in its typed form.
 fn validate_loading(s: &Scene, l: &LoadingSpec, p: &SampleSpec) -> Result<typed::LoadingSpec> {

@@ -161,6 +161,52 @@ pub fn export(
     let plan = RunPlan::of(&sim);
     let name = &sim.scene.name;
     let (bodies, walls) = (&sim.model.state.bodies, &sim.model.state.walls);
+    // The plain exports write spheres and LAMMPS's or YADE's own contact laws: a grain of
+    // another shape would become its bounding sphere (the Mason sand ellipsoids then fill 1.4
+    // times their box), so those scenes are refused; what they leave out of a sphere scene is
+    // said in the line returned and at the top of the script.
+    let mut dropped = String::new();
+    if !plugin {
+        let code = if lammps { "lammps" } else { "yade" };
+        let shaped = bodies
+            .shape
+            .iter()
+            .filter(|s| !matches!(s, crate::shape::Shape::Sphere))
+            .count();
+        if shaped > 0 {
+            return Err(Error::input(
+                &sim.scene.source.label,
+                format!(
+                    "{shaped} of the sample's {count} grains are not spheres, and `fractum export \
+                     {code}` writes spheres only (each grain would become its bounding sphere); \
+                     `fractum export lammps --plugin` exports their shapes"
+                ),
+            ));
+        }
+        let effects: Vec<String> = [
+            EffectKind::Fracture,
+            EffectKind::Cohesion,
+            EffectKind::Weibull,
+        ]
+        .into_iter()
+        .filter(|e| plan.has(*e))
+        .map(|e| format!("\"{}\"", e.as_str()))
+        .collect();
+        if !effects.is_empty() {
+            dropped = format!(
+                "not exported: the effects {} (the peer code's contact law does not break \
+                 grains; `fractum export lammps --plugin` runs them)",
+                effects.join(", ")
+            );
+        }
+    }
+    let noted = |script: String| {
+        if dropped.is_empty() {
+            script
+        } else {
+            format!("# {dropped}\n{script}")
+        }
+    };
     let files: Vec<(&str, String)> = if plugin {
         vec![
             ("packing.data", plugin_data(&sim, name)),
@@ -178,7 +224,7 @@ pub fn export(
             ),
             (
                 "in.fractum",
-                lammps_input(&plan, "packing.data", "series_lammps.csv")?,
+                noted(lammps_input(&plan, "packing.data", "series_lammps.csv")?),
             ),
         ]
     } else {
@@ -186,7 +232,7 @@ pub fn export(
             ("packing.txt", yade_text(bodies, walls, name)),
             (
                 "fractum_yade.py",
-                yade_script(&plan, "packing.txt", "series_yade.csv")?,
+                noted(yade_script(&plan, "packing.txt", "series_yade.csv")?),
             ),
         ]
     };
@@ -195,8 +241,13 @@ pub fn export(
         crate::output::write_atomic(&dir.join(file), text.as_bytes())?;
     }
     let names: Vec<&str> = files.iter().map(|f| f.0).collect();
+    let dropped = if dropped.is_empty() {
+        dropped
+    } else {
+        format!("; {dropped}")
+    };
     Ok(format!(
-        "{name}: wrote {} in {} ({count} grains, {} steps of {:.4e} s)",
+        "{name}: wrote {} in {} ({count} grains, {} steps of {:.4e} s){dropped}",
         names.join(", "),
         dir.display(),
         sim.clock.end_step,

@@ -476,6 +476,46 @@ fn validate_sample(s: &Scene, p: &SampleSpec, friction: f64) -> Result<typed::Sa
             "= \"geometric\" packs spheres only; ellipsoid grains reach their solid fraction by \"compaction\" or \"jammed\"",
         ));
     }
+    // Keys that do not apply to the kind are refused, as everywhere else: a box, an amount or a
+    // compaction friction the sample never reads used to be ignored without a word.
+    let applies: &[(&str, bool, &str)] = &[
+        (
+            "sample.count",
+            p.count.is_some() && p.kind != SampleKind::Random,
+            "applies to sample.kind = \"random\" only",
+        ),
+        (
+            "sample.solid_fraction",
+            p.solid_fraction.is_some() && p.kind != SampleKind::Random,
+            "applies to sample.kind = \"random\" only",
+        ),
+        (
+            "sample.box",
+            p.box_size.is_some()
+                && matches!(
+                    p.kind,
+                    SampleKind::EllipsoidAssembly | SampleKind::SimpleCubic | SampleKind::Hcp
+                ),
+            "applies to sample.kind = \"random\", \"single\" and the sphere files only (an \
+             assembly's box is the one its grains span, a lattice's the one its layers fill)",
+        ),
+        (
+            "sample.compaction_friction",
+            p.compaction_friction.is_some() && p.pressure.is_none(),
+            "applies with sample.pressure only (the friction while compacting to that pressure; \
+             packing = \"compaction\" compacts without friction)",
+        ),
+    ];
+    for &(key, given, why) in applies {
+        if given {
+            let what = if key == "sample.compaction_friction" {
+                "is given without sample.pressure".to_string()
+            } else {
+                format!("is given for sample.kind = \"{kind}\"")
+            };
+            return Err(s.key_error(key, format!("{what}; it {why}, so remove it")));
+        }
+    }
     // `pressure` compacts every kind of sample (random ones are checked above, in their order;
     // the others here: a negative pressure used to reach the compaction unchecked).
     if let Some(pr) = p.pressure {
