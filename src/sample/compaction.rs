@@ -294,10 +294,10 @@ pub struct FractionSpec {
     /// [`FILL_PRESSURE_PER_MODULUS`], [`JAM_PRESSURE_PER_MODULUS`], the defaults).
     pub pressures_per_modulus: (f64, f64),
     /// `false` (the default): the grains count as jammed short of the target size when,
-    /// settled, they carry the filling pressure, and at the target size they are held until
-    /// at rest. `true`, for a search of where grains jam: short of the target they count as
-    /// jammed once, settled, they carry the jamming pressure; at the target size they are
-    /// stopped where they are (velocities zeroed) without waiting for them to settle.
+    /// settled, they carry the filling pressure. `true`, for a search of where grains jam:
+    /// short of the target they count as jammed once, settled, they carry the jamming
+    /// pressure (the filling pressure relaxes at rest, and waiting for it again made the
+    /// search creep).
     pub search: bool,
 }
 
@@ -475,7 +475,7 @@ pub fn compact_to_fraction(
                 stress: mean_stress,
             }));
         }
-        if (settled || (spec.search && at_target)) && at_target {
+        if settled && at_target {
             for i in 0..bodies.len() {
                 bodies.vel[i] = Vec3::zeros();
                 bodies.omega[i] = Vec3::zeros();

@@ -111,7 +111,7 @@ pub fn compact_jammed(
         size: size * scale,
         friction: 0.0,
         pressures_per_modulus: FractionSpec::DEFAULT_PRESSURES,
-        search: true,
+        search: false,
     };
     let steps = match compact_to_fraction(bodies, walls, &fill, progress)? {
         Ok(r) => r.steps,

@@ -14,8 +14,8 @@ use crate::sample::{
     CompactionSpec, EllipsoidGrain, FractionSpec, JammedShort, JammedSpec, STREAM_ORIENTATIONS,
     STREAM_POSITIONS, STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box,
     check_assembly_overlaps, compact_jammed, compact_to_fraction, compact_to_pressure,
-    hcp_positions, pack_geometric, random_orientation, read_ellipsoid_assembly,
-    read_lammps_data, read_text_packing, simple_cubic_positions, stream, truncated_normal_radii,
+    hcp_positions, pack_geometric, random_orientation, read_ellipsoid_assembly, read_lammps_data,
+    read_text_packing, simple_cubic_positions, stream, truncated_normal_radii,
 };
 use crate::scene::Scene;
 use crate::scene::validate::check_bodies;
