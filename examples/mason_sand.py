@@ -12,7 +12,9 @@ Usage:
 Every run is scenes/mason_sand_shpb.toml with `--set` overrides, `fractum run --threads 1`,
 `--jobs` at a time, into target/mason_sand/NAME_seedN/ (FRACTUM_MASON_WORK moves it); a
 finished run (its summary.json exists) is not run again (delete the folder after changing
-the physics).
+the physics). The jammed samples (about a quarter of an hour each on one core) are kept in
+target/mason_sand/samples/ (FRACTUM_SAMPLE_CACHE, docs/scenes.md) and shared by every run of
+the same seed and density.
 
 What is fixed before any run (docs/validation.md gives sources and ranges): E 95 GPa, nu
 0.18, rho 2650 kg/m3 (quartz), grain friction 0.8 (the FEM-DEM study's effective value for
@@ -111,7 +113,11 @@ def run(name, sets, seed):
     if os.path.exists(os.path.join(out, "summary.json")):
         return out
     cmd = run_command(name, sets, seed)
-    r = subprocess.run(cmd, capture_output=True, text=True)
+    # Every grid point of a seed starts from the same jammed sample (the strengths are not
+    # part of the preparation): it is made once and kept in the sample cache.
+    env = dict(os.environ)
+    env.setdefault("FRACTUM_SAMPLE_CACHE", os.path.join(WORK, "samples"))
+    r = subprocess.run(cmd, capture_output=True, text=True, env=env)
     if r.returncode != 0:
         sys.stderr.write(f"{name} seed {seed}: {r.stderr.strip()}\n")
         return None

@@ -71,6 +71,7 @@ impl EnergyAccount {
             .max(self.initial.abs())
             .max(f64::MIN_POSITIVE);
         let mut m = Map::new();
+        m.insert("initial".into(), self.initial.into());
         m.insert("kinetic".into(), now.kinetic.into());
         m.insert("elastic".into(), now.elastic.into());
         m.insert("gravity_potential".into(), now.gravity.into());

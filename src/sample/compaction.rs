@@ -316,6 +316,8 @@ pub struct FractionJammed {
     pub reached: f64,
     /// The mean face stress (Pa) the settled grains carried there.
     pub stress: f64,
+    /// Steps taken.
+    pub steps: u64,
 }
 
 /// Largest wall speed while filling, as a strain of the box per step.
@@ -329,7 +331,8 @@ pub const FILL_PRESSURE_PER_MODULUS: f64 = 1e-4;
 /// nothing once they stop moving.
 pub const JAM_PRESSURE_PER_MODULUS: f64 = 1e-5;
 /// Background viscous damping while compacting: velocities decay by e in this many steps
-/// (free-flying grains feel no contact damping; much stronger drag slows the rearrangements).
+/// (free-flying grains feel no contact damping; much stronger drag slows the rearrangements:
+/// at 1000 steps the jammed preparation of 181 Mason grains took 5 times as many steps).
 const DRAG_STEPS: f64 = 5000.0;
 /// Settled: the mean grain speed is below this fraction of the largest wall speed.
 const SETTLED_SPEED: f64 = 1e-3;
@@ -473,6 +476,7 @@ pub fn compact_to_fraction(
                 target: target_fraction,
                 reached: fraction,
                 stress: mean_stress,
+                steps: c.steps,
             }));
         }
         if settled && at_target {

@@ -15,7 +15,7 @@
 //!    grains push back, until they jam: settled, at rest, still carrying
 //!    [`JAM_PER_MODULUS`] of their modulus ([`compact_to_fraction`] with friction); μ_p is
 //!    searched in [0, μ] (μ the grains' friction: halving until a try jams denser than
-//!    asked, then interpolating in the bracket) until the jammed sample fills the fraction
+//!    asked, then interpolating in the bracket; after three halvings, no friction) until the jammed sample fills the fraction
 //!    asked within [`FRACTION_TOLERANCE`] (8 tries at most; the closest is kept); each try
 //!    starts from the same loose sample;
 //! 3. loading starts from the chosen sample with the grains' own friction, its faces fixed
@@ -125,7 +125,7 @@ pub fn compact_jammed(
     // never fill (solid fraction 0.9) and stops where they jam: at rest, carrying the jamming
     // pressure.
     let dense = size * (fraction_of(bodies, walls) / 0.9).cbrt() * scale;
-    let attempt = |mu: f64| -> Result<(Bodies, Walls, f64)> {
+    let attempt = |mu: f64| -> Result<(Bodies, Walls, f64, u64)> {
         let (mut b, mut w) = start.clone();
         let c = FractionSpec {
             young: soft,
@@ -137,11 +137,11 @@ pub fn compact_jammed(
             pressures_per_modulus: (10.0 * JAM_PER_MODULUS, JAM_PER_MODULUS),
             search: true,
         };
-        let phi = match compact_to_fraction(&mut b, &mut w, &c, &mut |_| {})? {
-            Err(j) => j.reached,
-            Ok(_) => 0.9,
+        let (phi, steps) = match compact_to_fraction(&mut b, &mut w, &c, &mut |_| {})? {
+            Err(j) => (j.reached, j.steps),
+            Ok(r) => (0.9, r.steps),
         };
-        Ok((b, w, phi))
+        Ok((b, w, phi, steps))
     };
     // The bracket [lo, hi] of μ_p, with the fractions jammed at its ends where known: more
     // friction, looser.
@@ -149,8 +149,8 @@ pub fn compact_jammed(
     let loosest = attempt(hi.0)?;
     hi.1 = loosest.2;
     progress(&format!(
-        "jammed with the grains' friction {} at solid fraction {:.4}",
-        hi.0, loosest.2
+        "jammed with the grains' friction {} at solid fraction {:.4} ({} steps)",
+        hi.0, loosest.2, loosest.3
     ));
     if loosest.2 > spec.fraction + FRACTION_TOLERANCE {
         return Ok(Err(JammedShort::TooLoose { loosest: loosest.2 }));
@@ -161,6 +161,9 @@ pub fn compact_jammed(
         // Halve the bracket until its dense end is known, then interpolate in it (kept a
         // quarter away from either end, as jammed fractions scatter from try to try).
         let mu = match lo.1 {
+            // After three halvings without a denser try, no friction at all: if the grains
+            // jam looser than asked even then, nothing between helps.
+            None if hi.0 <= spec.friction / 8.0 => 0.0,
             None => 0.5 * (lo.0 + hi.0),
             Some(phi_lo) => {
                 let t = ((phi_lo - spec.fraction) / (phi_lo - hi.1)).clamp(0.25, 0.75);
@@ -170,23 +173,27 @@ pub fn compact_jammed(
         let here = attempt(mu)?;
         tries += 1;
         progress(&format!(
-            "jammed with friction {mu:.4} at solid fraction {:.4} (asked {:.4})",
-            here.2, spec.fraction
+            "jammed with friction {mu:.4} at solid fraction {:.4} (asked {:.4}; {} steps)",
+            here.2, spec.fraction, here.3
         ));
         if here.2 > spec.fraction {
             lo = (mu, Some(here.2));
         } else {
             hi = (mu, here.2);
         }
+        let loose_without_friction = mu == 0.0 && here.2 < spec.fraction;
         if (here.2 - spec.fraction).abs() < (best.1.2 - spec.fraction).abs() {
             best = (mu, here);
+        }
+        if loose_without_friction {
+            break;
         }
     }
     if best.1.2 < spec.fraction - FRACTION_TOLERANCE {
         // Bisection closed in on no friction and the grains still jam looser.
         return Ok(Err(JammedShort::TooDense { densest: best.1.2 }));
     }
-    let (mu, (b, w, phi)) = best;
+    let (mu, (b, w, phi, _)) = best;
     *bodies = b;
     *walls = w;
     Ok(Ok(JammedReport {

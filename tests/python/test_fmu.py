@@ -660,10 +660,26 @@ def test_the_fracture_parameter_builds_the_same_specimen_with_unbreakable_grains
     assert outputs[True][1] > 0 and outputs[False][1] == 0, outputs
 
 
-def test_the_mason_sand_variant_builds_the_calibrated_3_mm_specimen(unzipped):
+MASON_SAMPLE = os.path.join(ROOT, "tests", "data", "mason_sand_sample")
+
+
+def test_the_mason_sand_variant_builds_the_calibrated_3_mm_specimen(unzipped, tmp_path,
+                                                                   monkeypatch):
     # The calibrated Mason sand ships beside the paper's silica sand; the scene parameter
     # selects it (docs/embedding.md), with the grain assembly it draws from inside resources/.
     assert os.path.exists(os.path.join(unzipped, "resources", "mason_sand_shpb.toml"))
+    # Its jammed preparation of the 3 mm cube takes a quarter of an hour on one core: the
+    # sample the shipped scene prepares (seed 1) is read from a sample cache
+    # (FRACTUM_SAMPLE_CACHE, docs/scenes.md), filed under a digest of the build, the
+    # preparation's revision and the scene's sample tables, so the FMU's library finds it only
+    # if it would have made that very sample.
+    cache = tmp_path / "samples"
+    cache.mkdir()
+    fixture = sorted(os.listdir(MASON_SAMPLE))
+    for name in fixture:
+        with open(os.path.join(MASON_SAMPLE, name), "rb") as f:
+            (cache / name).write_bytes(f.read())
+    monkeypatch.setenv("FRACTUM_SAMPLE_CACHE", str(cache))
     md = read_model_description(FMU)
     scene = next(v for v in md.modelVariables if v.name == "scene")
     fmu = FMU2Slave(guid=md.guid, unzipDirectory=unzipped,
@@ -684,6 +700,10 @@ def test_the_mason_sand_variant_builds_the_calibrated_3_mm_specimen(unzipped):
     assert np.isfinite([s_in, s_tr]).all() and s_in > 0 and s_tr >= 0 and s_tr < s_in, (s_in, s_tr)
     fmu.terminate()
     fmu.freeInstance()
+    # A sample made here instead of read means the fixture no longer is what the scene
+    # prepares: make it again (scripts/mason_sample_fixture.sh) and commit it.
+    assert sorted(os.listdir(cache)) == fixture, (
+        "tests/data/mason_sand_sample is stale: run scripts/mason_sample_fixture.sh")
 
 
 FMI2_FUNCTIONS = """GetTypesPlatform GetVersion SetDebugLogging Instantiate FreeInstance SetupExperiment

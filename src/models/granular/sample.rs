@@ -121,7 +121,8 @@ pub fn build(
 /// The environment variable naming the sample cache's folder.
 pub const SAMPLE_CACHE: &str = "FRACTUM_SAMPLE_CACHE";
 
-/// A digest (FNV-1a, 64 bits) of what a sample is made from: the build, the seed, the
+/// A digest (FNV-1a, 64 bits) of what a sample is made from: the build and the preparations'
+/// revision, the seed, the
 /// `[sample]`, `[material]` and `[neighbor]` tables and the grain file's bytes.
 fn cache_key(scene: &Scene) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
@@ -134,6 +135,7 @@ fn cache_key(scene: &Scene) -> u64 {
         h = h.wrapping_mul(0x0000_0100_0000_01b3);
     };
     eat(env!("CARGO_PKG_VERSION").as_bytes());
+    eat(&crate::sample::PREPARATION_REVISION.to_le_bytes());
     eat(&scene.seed.to_le_bytes());
     for table in ["sample", "material", "neighbor"] {
         eat(scene
