@@ -170,9 +170,7 @@ end_time = 1e-6
 /// preparation lands at the fraction of the grains drawn (within the protocol's stated 0.003)
 /// and carries load before the platen moves: the stress it jammed at on its faces and at least
 /// four contacts per grain (the isostatic count of frictional grains; a sample compressed
-/// without friction below jamming has neither). The laboratory's densest sample, 0.66, is not
-/// reached in a box this small: without any friction these grains jam near 0.65 there
-/// (docs/scenes.md), and the preparation refuses it naming that fraction.
+/// without friction below jamming has neither).
 #[test]
 fn the_mason_sand_scene_jams_its_sample_and_runs_to_0_02_strain_at_reduced_size() {
     let (_dir, s, series) = run_scene(

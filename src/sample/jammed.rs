@@ -23,7 +23,10 @@
 //!
 //! No parameter depends on the fraction asked: the search finds μ_p. The fractions a
 //! material reaches this way span its loosest jammed state (μ_p = μ) to its frictionless
-//! jamming fraction (μ_p = 0); outside, the sample is refused naming the one it reached. The
+//! jamming fraction (μ_p = 0); outside, the sample is refused naming the one it reached, and
+//! so it is when the tries jam either side of the fraction asked but none within the
+//! tolerance (jammed fractions scatter from try to try, and near no friction they change
+//! steeply with it). The
 //! searches compress with a hundredth of the grains' stiffness ([`SEARCH_STIFFNESS`]; a step
 //! ten times as long): the jamming pressure is a fraction of the modulus, so the overlaps are
 //! those of the true stiffness, and with it the jammed sample carries the same forces times
@@ -82,8 +85,18 @@ pub struct JammedReport {
 /// their friction), or the densest the search reached (its friction near none).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum JammedShort {
-    TooLoose { loosest: f64 },
-    TooDense { densest: f64 },
+    TooLoose {
+        loosest: f64,
+    },
+    TooDense {
+        densest: f64,
+    },
+    /// Every try jammed further than the tolerance from the fraction asked (tries that jam
+    /// either side of it, none close enough): the closest, above and below.
+    Missed {
+        above: f64,
+        below: f64,
+    },
 }
 
 fn fraction_of(bodies: &Bodies, walls: &Walls) -> f64 {
@@ -189,9 +202,14 @@ pub fn compact_jammed(
             break;
         }
     }
-    if best.1.2 < spec.fraction - FRACTION_TOLERANCE {
-        // Bisection closed in on no friction and the grains still jam looser.
-        return Ok(Err(JammedShort::TooDense { densest: best.1.2 }));
+    if (best.1.2 - spec.fraction).abs() > FRACTION_TOLERANCE {
+        return Ok(Err(match lo.1 {
+            // Tries jammed either side of the fraction, none within the tolerance: refused
+            // rather than prepared at another density than asked.
+            Some(above) => JammedShort::Missed { above, below: hi.1 },
+            // Every try, the last without friction, jammed looser than asked.
+            None => JammedShort::TooDense { densest: best.1.2 },
+        }));
     }
     let (mu, (b, w, phi, _)) = best;
     *bodies = b;

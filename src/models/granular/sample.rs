@@ -555,13 +555,20 @@ fn compacted_sample(
                 JammedShort::TooDense { densest } => {
                     format!("without friction the grains jam at {densest:.3}")
                 }
+                JammedShort::Missed { above, below } => format!(
+                    "their tries jammed at {above:.3} and {below:.3} but none within {} of it (near no friction the fraction jammed at changes steeply); ask for one of those, or use more grains",
+                    crate::sample::FRACTION_TOLERANCE
+                ),
+            };
+            let asked = match s.amount {
+                Amount::SolidFraction(phi) | Amount::Both { solid_fraction: phi, .. } => {
+                    format!("= {phi} ({:.3} with the grains drawn)", spec.fraction)
+                }
+                Amount::Count(_) => format!("= {:.3}", spec.fraction),
             };
             scene.key_error(
                 "sample.solid_fraction",
-                format!(
-                    "= {:.3} is beyond what jammed compaction of these grains reaches: {why}",
-                    spec.fraction
-                ),
+                format!("{asked} is beyond what jammed compaction of these grains reaches: {why}"),
             )
         })?;
         progress(&format!(
