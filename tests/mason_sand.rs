@@ -167,7 +167,7 @@ end_time = 1e-6
 }
 
 /// The shipped scene at reduced size (a 2 mm box, about 180 grains) to 2% strain. Its jammed
-/// preparation lands at the fraction of the grains drawn (within the protocol's stated 0.003)
+/// preparation lands at the fraction of the grains drawn (within the protocol's stated 0.01)
 /// and carries load before the platen moves: the stress it jammed at on its faces and at least
 /// four contacts per grain (the isostatic count of frictional grains; a sample compressed
 /// without friction below jamming has neither).
@@ -188,11 +188,11 @@ fn the_mason_sand_scene_jams_its_sample_and_runs_to_0_02_strain_at_reduced_size(
     );
     assert!((s["strain_final"].as_f64().unwrap() - 0.02).abs() < 1e-3);
     // Grains are drawn until they fill 0.574: at most one grain more (1.6% of this box for the
-    // largest grain), then jammed within 0.003 of what they fill.
+    // largest grain), then jammed within 0.01 of what they fill.
     let phi = s["solid_fraction_initial"].as_f64().unwrap();
     assert!(
         phi >= 0.574 - fractum::sample::FRACTION_TOLERANCE
-            && phi < 0.574 + 0.016 + fractum::sample::FRACTION_TOLERANCE,
+            && phi <= 0.574 + 0.016 + fractum::sample::FRACTION_TOLERANCE,
         "{phi}"
     );
     // Jammed: settled, the grains still carried the protocol's jamming pressure,

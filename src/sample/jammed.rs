@@ -48,8 +48,12 @@ pub const JAM_PER_MODULUS: f64 = 1e-7;
 /// the loosest jammed packings of frictional grains (spheres of infinite friction jam near
 /// 0.55), so the fraction a friction jams at does not depend on where it started.
 pub const LOOSE_FRACTION: f64 = 0.45;
-/// The sample lands within this of the solid fraction asked.
-pub const FRACTION_TOLERANCE: f64 = 0.003;
+/// The sample lands within this of the solid fraction asked (0.01 of quartz: 26.5 kg/m³).
+/// Where grains jam scatters from try to try by about as much: measured on the 3 mm Mason
+/// cube, friction 0.264 jammed at 0.583 and 0.286 at 0.567 where the trend between 0.2 and
+/// 0.4 says 0.006 apart, and near no friction in the 2 mm box 0.0084 at 0.659 and 0.0054 at
+/// 0.656. At 0.003 the search had not found 0.574 there after seven tries (five minutes each).
+pub const FRACTION_TOLERANCE: f64 = 0.01;
 /// The grains' stiffness while μ_p is searched, as a fraction of theirs.
 pub const SEARCH_STIFFNESS: f64 = 0.01;
 /// Tries of μ_p at most.
