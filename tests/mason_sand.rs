@@ -190,9 +190,9 @@ fn the_mason_sand_scene_jams_its_sample_and_runs_to_0_02_strain_at_reduced_size(
     // Grains are drawn until they fill 0.574: at most one grain more (1.6% of this box for the
     // largest grain), then jammed within 0.01 of what they fill.
     let phi = s["solid_fraction_initial"].as_f64().unwrap();
+    let tolerance = fractum::sample::FRACTION_TOLERANCE;
     assert!(
-        phi >= 0.574 - fractum::sample::FRACTION_TOLERANCE
-            && phi <= 0.574 + 0.016 + fractum::sample::FRACTION_TOLERANCE,
+        (0.574 - tolerance..=0.574 + 0.016 + tolerance).contains(&phi),
         "{phi}"
     );
     // Jammed: settled, the grains still carried the protocol's jamming pressure,
