@@ -401,7 +401,7 @@ def plot(folder, recs, curves):
     ax.set_yscale("log")
     ax.set_xlabel("axial strain")
     ax.set_ylabel("axial stress, transmitted face (MPa)")
-    ax.set_title("Mason sand, 387 1/s (mean ± sd of 3 seeds)", fontsize=9)
+    ax.set_title(f"Mason sand, 387 1/s (mean ± sd of {len(SEEDS)} seed(s))", fontsize=9)
     ax.legend(fontsize=6)
     # The log-slope per 0.05 segment.
     segments = list(zip(REPORT_STRAINS[:-1], REPORT_STRAINS[1:]))
@@ -426,16 +426,14 @@ def plot(folder, recs, curves):
     sx.legend(fontsize=6)
     for t, r in recs.items():
         bx.plot(r["strain"], r["radial"], color="0.6", lw=0.8)
-    if "scene" in curves:
-        runs = curves["scene"][1]
+    for (name, (label, runs)), c in zip(curves.items(), colors):
         m = mean_curve(runs, "lateral", grid)
         ok = [k for k in range(len(grid)) if m[k] is not None]
-        bx.plot([grid[k] for k in ok], [m[k] for k in ok], color="C0",
-                label="simulated, 1520 kg/m3 (side faces)")
+        bx.plot([grid[k] for k in ok], [m[k] for k in ok], color=c, label=f"{label} (side faces)")
     bx.plot([], [], color="0.6", label="records (sleeve)")
     bx.set_xlabel("axial strain")
     bx.set_ylabel("radial stress (MPa)")
-    bx.legend(fontsize=7)
+    bx.legend(fontsize=6)
     fig.tight_layout()
     for ext in ("svg", "png"):
         fig.savefig(os.path.join(folder, f"mason_sand.{ext}"), dpi=110)

@@ -154,12 +154,31 @@ fn a_run_killed_in_a_finished_runs_folder_leaves_it_marked_incomplete_and_unmixe
         .map(|e| e.file_name().to_string_lossy().to_string())
         .collect();
     let listed = fs::read_to_string(out.join("particles.pvd")).unwrap();
-    for file in vtk.iter().filter(|f| f.starts_with("particles_")) {
-        assert!(
-            listed.contains(file.as_str()),
-            "vtk/{file} is another run's snapshot"
-        );
-    }
+    // A snapshot is written before the index that lists it: killed between the two, the run
+    // leaves its newest frame unlisted. Any other unlisted frame would be the earlier run's.
+    let step = |f: &str| -> u64 {
+        f.trim_start_matches("particles_")
+            .trim_end_matches(".vtu")
+            .parse()
+            .unwrap()
+    };
+    let frames: Vec<&String> = vtk.iter().filter(|f| f.starts_with("particles_")).collect();
+    let newest_listed = frames
+        .iter()
+        .filter(|f| listed.contains(f.as_str()))
+        .map(|f| step(f))
+        .max();
+    let unlisted: Vec<&&String> = frames
+        .iter()
+        .filter(|f| !listed.contains(f.as_str()))
+        .collect();
+    assert!(
+        unlisted.len() <= 1
+            && unlisted
+                .iter()
+                .all(|f| newest_listed.is_none_or(|n| step(f) > n)),
+        "{unlisted:?} are another run's snapshots (listed up to step {newest_listed:?})"
+    );
     // The killed run's lock is taken over by the next run.
     assert!(out.join(".fractum.lock").exists());
     let o = common::fractum(dir.path(), &args(&scene, &out, &[]));
