@@ -300,3 +300,43 @@ fn the_scene_s_particle_strength_is_what_its_grain_shows_between_platens() {
     let edge = (1.0 - 2.0 * nu) / 3.0 * q0;
     assert!((edge / strength - 1.0).abs() < 1e-12, "{edge} {strength}");
 }
+
+/// The FMU's test of its Mason sand variant reads the shipped scene's 3 mm sample from a
+/// committed sample-cache fixture (a quarter of an hour to prepare): the fixture must be the
+/// one the scene's sample is kept under, as the FMU carries the scene (its grain file beside
+/// it, the path rewritten by scripts/pack_fmu.sh). A change to the scene's sample, material or
+/// neighbour tables, the grain file, the crate's version or the preparation's revision names
+/// another file: remake it with scripts/mason_sample_fixture.sh.
+#[test]
+fn the_fmu_s_mason_sample_fixture_is_what_the_scene_prepares() {
+    let want = fractum::models::granular::sample::cache_name(&shipped(&[]));
+    let text = std::fs::read_to_string(repo().join(SCENE))
+        .unwrap()
+        .replace("\"../data/mason_sand_shpb/", "\"mason_sand_shpb/");
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::create_dir_all(dir.path().join("mason_sand_shpb")).unwrap();
+    std::fs::copy(
+        repo().join(ASSEMBLY),
+        dir.path()
+            .join("mason_sand_shpb/grains_mason_sand_ellipsoids.csv"),
+    )
+    .unwrap();
+    let scene = dir.path().join("mason_sand_shpb.toml");
+    std::fs::write(&scene, text).unwrap();
+    let packed = Scene::read(&scene, &["seed=1".to_string()]).unwrap();
+    assert_eq!(
+        fractum::models::granular::sample::cache_name(&packed),
+        want,
+        "the FMU's copy of the scene names another sample"
+    );
+    let have: Vec<String> = std::fs::read_dir(repo().join("tests/data/mason_sand_sample"))
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().to_string())
+        .collect();
+    assert_eq!(
+        have,
+        vec![want],
+        "tests/data/mason_sand_sample is stale: run scripts/mason_sample_fixture.sh"
+    );
+}

@@ -88,7 +88,7 @@ pub fn build(
     // A sweep over the physics of loading prepares the same sample again and again: with
     // FRACTUM_SAMPLE_CACHE set, a sample is kept there under a digest of everything it is
     // made from and read back instead of made.
-    let path = std::path::Path::new(&dir).join(format!("{:016x}.sample", cache_key(scene)));
+    let path = std::path::Path::new(&dir).join(cache_name(scene));
     if let Ok(bytes) = std::fs::read(&path) {
         if let Ok((bodies, walls, info)) =
             postcard::from_bytes::<(Bodies, Walls, SampleInfo)>(&bytes)
@@ -121,9 +121,16 @@ pub fn build(
 /// The environment variable naming the sample cache's folder.
 pub const SAMPLE_CACHE: &str = "FRACTUM_SAMPLE_CACHE";
 
+/// The file name a scene's prepared sample is kept under in the sample cache
+/// (`FRACTUM_SAMPLE_CACHE`): the digest of what it is made from, `{:016x}.sample`.
+pub fn cache_name(scene: &Scene) -> String {
+    format!("{:016x}.sample", cache_key(scene))
+}
+
 /// A digest (FNV-1a, 64 bits) of what a sample is made from: the build and the preparations'
 /// revision, the seed, the
-/// `[sample]`, `[material]` and `[neighbor]` tables and the grain file's bytes.
+/// `[sample]` (less the grain file's path), `[material]` and `[neighbor]` tables and the grain
+/// file's bytes.
 fn cache_key(scene: &Scene) -> u64 {
     let mut h: u64 = 0xcbf2_9ce4_8422_2325;
     let mut eat = |bytes: &[u8]| {
@@ -138,12 +145,13 @@ fn cache_key(scene: &Scene) -> u64 {
     eat(&crate::sample::PREPARATION_REVISION.to_le_bytes());
     eat(&scene.seed.to_le_bytes());
     for table in ["sample", "material", "neighbor"] {
-        eat(scene
-            .tables
-            .get(table)
-            .map(|t| t.to_string())
-            .unwrap_or_default()
-            .as_bytes());
+        let mut t = scene.tables.get(table).cloned();
+        // The grain file enters by its bytes, not its path: the FMU carries the Mason scene
+        // with the file beside it, the path rewritten.
+        if let Some(toml::Value::Table(t)) = &mut t {
+            t.remove("grain_file");
+        }
+        eat(t.map(|t| t.to_string()).unwrap_or_default().as_bytes());
     }
     if let Some(file) = scene
         .tables
