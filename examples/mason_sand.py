@@ -112,9 +112,19 @@ def targets(recs):
     return tgt
 
 
+def finished(out):
+    """A run's folder holds a finished run: its summary.json exists and is complete (a run
+    marks its summary in progress before its first write)."""
+    try:
+        with open(os.path.join(out, "summary.json")) as f:
+            return json.load(f).get("complete", True) is not False
+    except (OSError, ValueError):
+        return False
+
+
 def run(name, sets, seed):
     out = os.path.join(WORK, f"{name}_seed{seed}")
-    if os.path.exists(os.path.join(out, "summary.json")):
+    if finished(out):
         return out
     cmd = run_command(name, sets, seed)
     # Every grid point of a seed starts from the same jammed sample (the strengths are not
@@ -266,7 +276,7 @@ def report(args):
     curves = {}
     for name, label, _ in cases:
         outs = [os.path.join(WORK, f"{name}_seed{s}") for s in SEEDS]
-        outs = [o for o in outs if os.path.exists(os.path.join(o, "summary.json"))]
+        outs = [o for o in outs if finished(o)]
         if not outs:
             continue
         runs = [series(o) for o in outs]
@@ -284,7 +294,7 @@ def report(args):
     # The paper's own main job (silica sand, solid fraction 0.55, 500/s, 6 mm cube), seed 1:
     # `fractum run scenes/shpb_sand.toml --out target/mason_sand/main_job_seed1`.
     main = os.path.join(WORK, "main_job_seed1")
-    if os.path.exists(os.path.join(main, "summary.json")):
+    if finished(main):
         runs = [series(main)]
         curves["main_job"] = ("paper's main job: silica, 1460 kg/m3, 500/s (seed 1)", runs)
         cells = [fmt(at(runs[0]["strain"], runs[0]["opposite"], e)) for e in REPORT_STRAINS]
@@ -330,7 +340,7 @@ def report(args):
     for name, (label, runs) in curves.items():
         for seed in SEEDS:
             path = os.path.join(WORK, f"{name}_seed{seed}", "summary.json")
-            if not os.path.exists(path):
+            if not finished(os.path.dirname(path)):
                 continue
             sm = json.load(open(path))
             e = sm.get("energy", {}).get("balance_error_relative")
@@ -346,7 +356,7 @@ def report(args):
         with open(args.csv, "w") as f:
             f.write("run,axial_strain,stress_opposite_MPa,stress_driven_MPa,stress_lateral_MPa\n")
             names = sorted(d for d in os.listdir(WORK) if os.path.isdir(os.path.join(WORK, d))
-                           and os.path.exists(os.path.join(WORK, d, "summary.json")))
+                           and finished(os.path.join(WORK, d)))
             for d in names:
                 r = series(os.path.join(WORK, d))
                 for e in REPORT_STRAINS:
