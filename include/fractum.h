@@ -264,7 +264,7 @@ extern "C" {
 
 // Creates a simulation from a scene file, of whatever model its `model.kind` names.
 // `overrides` are `count` strings `KEY=VALUE` as for `fractum run --set`; `threads` = 0 uses
-// every core, more than the machine has is refused (FRACTUM_ERR_INPUT). On success `*handle` is
+// every core, a negative count or more than the machine has is refused (FRACTUM_ERR_INPUT). On success `*handle` is
 // set.
 enum FractumStatus fractum_create_from_file(const char *path,
                                             const char *const *overrides,
