@@ -244,19 +244,11 @@ pub fn box_walls_vtu(walls: &Walls) -> String {
     integers(&mut out, "offsets", "Int64", (1..=6).map(|k| 4 * k));
     integers(&mut out, "types", "UInt8", std::iter::repeat_n(9, 6));
     out.push_str("      </Cells>\n      <CellData Scalars=\"normal_stress\">\n");
-    let all = [
-        BoxFace::XMin,
-        BoxFace::XMax,
-        BoxFace::YMin,
-        BoxFace::YMax,
-        BoxFace::ZMin,
-        BoxFace::ZMax,
-    ];
     scalars(
         &mut out,
         "normal_stress",
         "Float64",
-        all.iter().map(|f| walls.face_stress(*f)),
+        BoxFace::ALL.iter().map(|f| walls.face_stress(*f)),
     );
     out.push_str("      </CellData>\n");
     footer(&mut out);

@@ -145,14 +145,11 @@ pub fn compact_jammed(
     let attempt = |mu: f64| -> Result<(Bodies, Walls, f64, u64)> {
         let (mut b, mut w) = start.clone();
         let c = FractionSpec {
-            young: soft,
-            poisson: spec.poisson,
-            density: spec.density,
-            skin: spec.skin,
             size: dense,
             friction: mu,
             pressures_per_modulus: (10.0 * JAM_PER_MODULUS, JAM_PER_MODULUS),
             search: true,
+            ..fill
         };
         let (phi, steps) = match compact_to_fraction(&mut b, &mut w, &c, &mut |_| {})? {
             Err(j) => (j.reached, j.steps),

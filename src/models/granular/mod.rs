@@ -598,8 +598,9 @@ impl Granular {
         let st = &self.state;
         let walls = &st.walls;
         let stress = if walls.is_box {
-            (0..6)
-                .map(|f| walls.face_stress(crate::state::BoxFace::ALL[f]))
+            crate::state::BoxFace::ALL
+                .iter()
+                .map(|&f| walls.face_stress(f))
                 .sum::<f64>()
                 / 6.0
         } else {

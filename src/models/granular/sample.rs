@@ -132,14 +132,11 @@ pub fn cache_name(scene: &Scene) -> String {
 /// `[sample]` (less the grain file's path), `[material]` and `[neighbor]` tables and the grain
 /// file's bytes.
 fn cache_key(scene: &Scene) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |bytes: &[u8]| {
-        for &b in bytes {
-            h ^= u64::from(b);
-            h = h.wrapping_mul(0x0000_0100_0000_01b3);
-        }
-        h ^= 0xff;
-        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    // Each part followed by a 0xff byte, so that no two lists of parts run together alike.
+    let mut bytes = Vec::new();
+    let mut eat = |part: &[u8]| {
+        bytes.extend_from_slice(part);
+        bytes.push(0xff);
     };
     eat(env!("CARGO_PKG_VERSION").as_bytes());
     eat(&crate::sample::PREPARATION_REVISION.to_le_bytes());
@@ -161,7 +158,7 @@ fn cache_key(scene: &Scene) -> u64 {
     {
         eat(&std::fs::read(scene.source.dir.join(file)).unwrap_or_default());
     }
-    h
+    crate::output::sealed::checksum(&bytes)
 }
 
 /// The sample of the scene, made.
