@@ -10,6 +10,8 @@
 //!   compression positive), `force_incident`, `force_transmitted` (N, that stress over the
 //!   specimen cross-section), `bar_stress_incident`, `bar_stress_transmitted` (Pa, the force
 //!   over the bar cross-section), `strain`, `broken_particles`, `kinetic_energy` (J);
+//! * calculated parameter `specimen_length` (m, the DEM specimen's axial length when loading
+//!   starts, which `strain` is relative to; 0 until the specimen is built);
 //! * parameters `scene` (a path inside resources/), `specimen_diameter`, `bar_diameter` (m),
 //!   `seed`.
 
@@ -48,6 +50,8 @@ pub mod vr {
     pub const SCENE: u32 = 14;
     /// Boolean variable.
     pub const FRACTURE: u32 = 15;
+    /// A calculated parameter (Real).
+    pub const SPECIMEN_LENGTH: u32 = 16;
 }
 
 /// Everything a host can set, and the time.
@@ -300,6 +304,7 @@ impl Model for Shpb {
                 }
                 vr::STRAIN => self.out.strain,
                 vr::KINETIC_ENERGY => self.out.kinetic,
+                vr::SPECIMEN_LENGTH => self.sim.as_ref().map_or(0.0, |s| s.initial_height()),
                 _ => return Err(format!("{r} is not the value reference of a Real variable")),
             })
     }
@@ -557,6 +562,7 @@ mod tests {
             ("seed", vr::SEED),
             ("scene", vr::SCENE),
             ("fracture", vr::FRACTURE),
+            ("specimen_length", vr::SPECIMEN_LENGTH),
         ];
         let vars = described();
         assert_eq!(vars.len(), names.len());

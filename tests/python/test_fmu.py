@@ -20,7 +20,7 @@ STRESS_INCIDENT, STRESS_TRANSMITTED = 2, 3
 FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY = 4, 6, 8, 9
 SPECIMEN_DIAMETER, BAR_DIAMETER = 10, 11
 BROKEN_PARTICLES = 12
-SEED, FRACTURE = 13, 15
+SEED, FRACTURE, SPECIMEN_LENGTH = 13, 15, 16
 FMI2_ERROR = 3
 OUTPUTS = [STRESS_INCIDENT, STRESS_TRANSMITTED, FORCE_INCIDENT, BAR_STRESS_INCIDENT, STRAIN, KINETIC_ENERGY]
 STRAIN_OUT = OUTPUTS.index(STRAIN)
@@ -646,6 +646,8 @@ def test_the_fracture_parameter_builds_the_same_specimen_with_unbreakable_grains
         initial = fmu.getReal([STRESS_INCIDENT, STRESS_TRANSMITTED])
         run(fmu, 0.0, 1e-6, 5)
         outputs[on] = (initial, fmu.getInteger([BROKEN_PARTICLES])[0], fmu.getReal([STRAIN])[0])
+        # The scene's 6 mm cube, as packed (no jamming moves its box).
+        assert fmu.getReal([SPECIMEN_LENGTH]) == [6e-3]
         # Too late once running: a parameter.
         with pytest.raises(Exception):
             fmu.setBoolean([fracture.valueReference], [not on])
@@ -693,8 +695,13 @@ def test_the_mason_sand_variant_builds_the_calibrated_3_mm_specimen(unzipped, tm
     fmu.exitInitializationMode()
     run(fmu, 0.0, 1e-6, 10)
     strain, s_in, s_tr = fmu.getReal([STRAIN, STRESS_INCIDENT, STRESS_TRANSMITTED])
-    # 10 us at 387/s: strain 0.00387 of the 3 mm cube (the silica specimen, 6 mm, would give half).
-    assert abs(strain / 0.00387 - 1) < 1e-9, strain
+    length = fmu.getReal([SPECIMEN_LENGTH])[0]
+    # The jammed sample stops within 0.01 of the scene's solid fraction 0.574, its box scaled
+    # alike in all three directions from the 3 mm cube: its edge lies within
+    # 3 mm x ((0.574 -+ 0.01) / 0.574)^(-1/3) (the silica specimen, 6 mm, would be twice it).
+    assert 3e-3 * (0.584 / 0.574) ** (-1 / 3) <= length <= 3e-3 * (0.564 / 0.574) ** (-1 / 3), length
+    # 10 us at 1.161 m/s, over that length (387/s over 3 mm exactly), to round-off.
+    assert abs(strain / (1.161 * 10e-6 / length) - 1) < 1e-9, (strain, length)
     # Compressed from the driven face: the far face, behind the grains and the sleeve's
     # friction, carries less, and both are compressive and finite.
     assert np.isfinite([s_in, s_tr]).all() and s_in > 0 and s_tr >= 0 and s_tr < s_in, (s_in, s_tr)

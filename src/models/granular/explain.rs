@@ -114,14 +114,16 @@ fn describe_sample(cfg: &GranularScene) -> String {
         Grains::Random(r) => {
             let method = match r.packing() {
                 Packing::Geometric => {
-                    "packed without overlap by growth and collective rearrangement (He et al. 1999)"
+                    "packed without overlap by growth and collective rearrangement (He et al. 1999)".to_string()
                 }
                 Packing::Compaction => {
-                    "placed at a low solid fraction (bounding spheres at 0.4), then compressed by the box's faces without friction to the fraction (friction restored for loading)"
+                    "placed at a low solid fraction (bounding spheres at 0.4), then compressed by the box's faces without friction to the fraction (friction restored for loading)".to_string()
                 }
-                Packing::Jammed => {
-                    "placed at a low solid fraction (bounding spheres at 0.4), compressed without friction to 0.45, then compressed until they jam (at rest, carrying 1e-7 of their modulus) with a friction searched between none and the grains' own until the jammed grains fill the fraction within 0.003; loading starts from there with the grains' own friction"
-                }
+                Packing::Jammed => format!(
+                    "placed at a low solid fraction (bounding spheres at 0.4), compressed without friction to 0.45, then compressed until they jam (at rest, carrying {:e} of their modulus) with a friction searched between none and the grains' own until the jammed grains fill the fraction within {} (the box scaled alike in all directions); loading starts from there with the grains' own friction",
+                    crate::sample::JAM_PER_MODULUS,
+                    crate::sample::FRACTION_TOLERANCE
+                ),
             };
             let (grains, radii) = match &r.shape {
                 RandomShape::Ellipsoids { grain_file, .. } => {

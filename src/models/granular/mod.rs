@@ -555,6 +555,17 @@ impl Granular {
         Ok(())
     }
 
+    /// The box's height (z, m) when loading began: what `axial_strain` is relative to (0
+    /// without a box). A prepared sample's box is not the scene's nominal one: a jammed sample
+    /// stops within its fraction's tolerance, its box scaled to match.
+    pub fn initial_height(&self) -> f64 {
+        if self.state.walls.is_box {
+            self.state.height0
+        } else {
+            0.0
+        }
+    }
+
     /// The axial strain of the box (0 without one).
     pub fn axial_strain(&self) -> f64 {
         let st = &self.state;
