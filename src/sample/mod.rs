@@ -62,7 +62,7 @@ pub struct Sample {
 /// The revision of the preparations (placement, compaction, the jammed protocol): raised with
 /// every change that changes the samples they make, so that samples kept by a cache
 /// (`FRACTUM_SAMPLE_CACHE`) are made again rather than read back from an older protocol.
-pub const PREPARATION_REVISION: u32 = 4;
+pub const PREPARATION_REVISION: u32 = 5;
 
 /// Random-number streams, one per purpose, all from the scene seed.
 pub(crate) fn stream(seed: u64, purpose: u64) -> ChaCha8Rng {

@@ -245,7 +245,9 @@ pub enum Amount {
     /// Number of grains, ≥ 1.
     Count(usize),
     /// Grains are drawn until they fill this solid fraction of the box: in (0, 0.65] for the
-    /// geometric packing, (0, 0.9] for compaction.
+    /// geometric packing, (0, 0.9] for compaction (whose last grain is kept only if that lands
+    /// closer, and which refuses whole grains that miss the fraction by more than
+    /// `sample::FRACTION_TOLERANCE`).
     SolidFraction(f64),
     /// `count` grains, the box scaled to `solid_fraction`.
     Both { count: usize, solid_fraction: f64 },
