@@ -112,9 +112,17 @@ void FixFractumDt::end_of_step()
     // Fractum adapts after a split on the forces at the new shapes, and at its output steps;
     // here the halves' first evaluation is in the step after the decision.
     const bigint step = update->ntimestep;
-    if (sums->split_this_step() ||
-        (step % every == 0 && !sums->split_next_step() && sums->shares_wanted()))
+    if (sums->split_this_step())
       adapt();
+    else if (step % every == 0 && !sums->split_next_step() && sums->shares_wanted()) {
+      // The contacts of the steps just taken: above omega dt 2 some of those steps were
+      // unstable, which the adaptation alone shortened without a word (a step 28 times too
+      // long ran unchecked between adaptations). Said once, with the step to set; the run
+      // goes on at the shortened step. (After a split the halves' contacts are new: their step
+      // is shortened before any is taken.)
+      unstable_since_last();
+      adapt();
+    }
   } else if (sums->shares_wanted()) {
     check();
   }
@@ -144,6 +152,27 @@ void FixFractumDt::check()
                    "results lose accuracy; consider timestep {:.4g} s (omega dt 0.6)",
                    STYLE, wdt, update->ntimestep, 0.6 / omega);
   if (verdict == 1) warned = true;
+}
+
+/* At a scheduled adaptation: whether the steps since the last one ran above omega dt 2, a
+   warning (once) naming the step and the timestep to set. */
+void FixFractumDt::unstable_since_last()
+{
+  if (unstable_warned) return;
+  const double sum = sums->largest_share(world, atom->nlocal);
+  double wdt = 0.0;
+  int verdict = 0;
+  int status = fractum_kernel_step_check(sum, update->dt, &wdt, &verdict);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "step_check", status);
+  if (verdict != 2) return;
+  unstable_warned = true;
+  if (comm->me == 0)
+    error->warning(FLERR,
+                   "{}: omega dt = {:.3f} at step {}, the adaptation every {} steps: steps since "
+                   "the last one ran above velocity Verlet's limit of 2, where a contact's "
+                   "energy grows at every step; the step is shortened now, but those steps "
+                   "were not resolved: set timestep below {:.4g} s or adapt more often",
+                   STYLE, wdt, update->ntimestep, every, 2.0 * update->dt / wdt);
 }
 
 /* Shortens the step when the largest frequency estimate of this step's contacts asks. */

@@ -42,10 +42,12 @@ class FixFractumDt : public Fix {
   bigint every = 0;    // 0: check only
   double omega_dt = 0.6;
   bool warned = false;    // the omega dt warning given
+  bool unstable_warned = false;    // the warning of unstable steps between adaptations given
   double shortened = 0.0;
 
   void adapt();
   void check();
+  void unstable_since_last();
   void schedule();
 };
 

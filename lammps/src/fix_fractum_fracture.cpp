@@ -583,6 +583,42 @@ void FixFractumFracture::pre_exchange()
   std::vector<int> type_all(n);
   MPI_Allreduce(types.data(), type_all.data(), n, MPI_INT, MPI_MAX, world);
   if (n > 0) {
+    // A half at a position or speed that is not a finite number comes from a grain the run
+    // had already lost: named by grain and step before LAMMPS is asked to place it.
+    for (int k = 0; k < n; k++)
+      for (int d = 0; d < 3; d++)
+        if (!std::isfinite(xs[3 * k + d]) || !std::isfinite(vs[3 * k + d]))
+          error->all(FLERR,
+                     "{}: at step {} grain {} splits into a half at position ({}, {}, {}) m "
+                     "moving at ({}, {}, {}) m/s, which is not a finite state: the run had "
+                     "lost the grain before it broke (a velocity or force beyond any contact's, "
+                     "as from a data file's Velocities line or a time step too long for the "
+                     "contacts)",
+                     STYLE, update->ntimestep, all[k].parent, xs[3 * k], xs[3 * k + 1],
+                     xs[3 * k + 2], vs[3 * k], vs[3 * k + 1], vs[3 * k + 2]);
+    // A half outside a non-periodic box would be dropped by lammps_create_atoms, and the run
+    // stopped with a count of halves only: the grain, where it is and how fast, and the box,
+    // before anything is created.
+    for (int k = 0; k < n; k++) {
+      bool outside = false;
+      for (int d = 0; d < 3; d++)
+        if (!domain->periodicity[d] &&
+            (xs[3 * k + d] < domain->boxlo[d] || xs[3 * k + d] >= domain->boxhi[d]))
+          outside = true;
+      if (outside)
+        error->all(FLERR,
+                   "{}: at step {} grain {} splits into a half at ({:.4g}, {:.4g}, {:.4g}) m, "
+                   "outside the simulation box ({:.4g} to {:.4g}, {:.4g} to {:.4g}, {:.4g} to "
+                   "{:.4g} m), moving at ({:.4g}, {:.4g}, {:.4g}) m/s: the grain had left the box "
+                   "already, faster than its contacts could hold it; a velocity beyond any "
+                   "contact's (the data file's Velocities) or a time step too long for the "
+                   "contacts (timestep {:.4g} s; fix fractum/dt 0 checks it at every step, with "
+                   "EVERY > 0 only at its adaptations) does that",
+                   STYLE, update->ntimestep, all[k].parent, xs[3 * k], xs[3 * k + 1],
+                   xs[3 * k + 2], domain->boxlo[0], domain->boxhi[0], domain->boxlo[1],
+                   domain->boxhi[1], domain->boxlo[2], domain->boxhi[2], vs[3 * k], vs[3 * k + 1],
+                   vs[3 * k + 2], update->dt);
+    }
     // Drop the ghosts first, as Comm::exchange (next in this step) would, and as fix deposit
     // and fix pour do before they insert atoms: a created atom goes to slot nlocal, which a
     // ghost still occupies here, and lammps_create_atoms then maps nlocal + nghost slots, as
@@ -591,16 +627,33 @@ void FixFractumFracture::pre_exchange()
     // ghosts of its parent). Nothing reads ghosts between here and the exchange's borders.
     if (atom->map_style != Atom::MAP_NONE) atom->map_clear();
     atom->nghost = 0;
-    bigint before = atom->natoms;
-    const int made =
-        lammps_create_atoms(lmp, n, ids.data(), type_all.data(), xs.data(), vs.data(), nullptr, 0);
-    if (made < 0)
-      error->all(FLERR, "{}: LAMMPS could not create the {} halves of split grains "
-                 "(lammps_create_atoms failed; its reason is in LAMMPS's message before this one)",
-                 STYLE, n);
-    if (atom->natoms != before + n)
-      error->all(FLERR, "{}: {} halves of split grains were to be created and {} were: a half "
-                 "lies outside the simulation box", STYLE, n, atom->natoms - before);
+    // Counted by the ranks' own atoms: atom->natoms still counts atoms lost since the last
+    // thermo output (a grain thrown out of the box), and lammps_create_atoms recounts without
+    // them, which read as halves not created (a Velocities line of 1e20 m/s stopped the run at
+    // a split as "a half lies outside the simulation box"), and the recount would hide the loss
+    // from thermo's check: natoms is put back to the count with the lost atoms, so that thermo
+    // reports them as thermo_modify lost says.
+    const bigint before = atom->nlocal;
+    const bigint natoms_before = atom->natoms;
+    // Its return value is no verdict: it is the recounted atoms less atom->natoms, negative
+    // when atoms were lost since the last thermo output (a grain thrown out of the box by a
+    // Velocities line of 1e20 m/s: "could not create" was reported, pointing at a message
+    // there was none of). A failure it caught is kept as the library's last error.
+    lammps_create_atoms(lmp, n, ids.data(), type_all.data(), xs.data(), vs.data(), nullptr, 0);
+    if (lammps_has_error(lmp)) {
+      char why[1024] = "";
+      lammps_get_last_error_message(lmp, why, sizeof why);
+      error->all(FLERR, "{}: LAMMPS could not create the {} halves of split grains at step {}: "
+                 "{}", STYLE, n, update->ntimestep, utils::trim(why));
+    }
+    bigint created_here = atom->nlocal - before, created = 0;
+    MPI_Allreduce(&created_here, &created, 1, MPI_LMP_BIGINT, MPI_SUM, world);
+    atom->natoms = natoms_before + created;
+    if (created != n)
+      error->all(FLERR, "{}: at step {} {} halves of split grains were to be created and {} "
+                 "were: LAMMPS dropped the others (a half at the box's edge, or a box "
+                 "shrink-wrapped about its grains)",
+                 STYLE, update->ntimestep, n, created);
     arrays();
     for (int k = 0; k < n; k++) {
       int i = atom->map(ids[k]);
