@@ -1225,6 +1225,14 @@ fn messages_name_the_key_at_fault_with_a_range_that_can_be_met() {
             && line.contains("allowed: sample.count >= about"),
         "{line}"
     );
+    // The same for spheres packed geometrically (the main job's sand), which still blamed the
+    // box.
+    let line = refused_shipped("scenes/shpb_sand.toml", &["--set", "sample.count=1"]);
+    assert!(
+        line.contains("sample.count (set with --set) = 1 grains at sample.solid_fraction = 0.55")
+            && line.contains("allowed: sample.count >= about"),
+        "{line}"
+    );
 }
 
 #[test]

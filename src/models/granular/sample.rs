@@ -495,29 +495,7 @@ fn compacted_sample(
     };
     let bounding: Vec<f64> = grains.iter().map(|g| g[0].max(g[1]).max(g[2])).collect();
     let rmax = bounding.iter().copied().fold(0.0, f64::max);
-    if let (
-        true,
-        Amount::Both {
-            count,
-            solid_fraction,
-        },
-    ) = ((0..3).any(|a| target[a] <= 2.0 * rmax), s.amount)
-    {
-        // The box was scaled to hold `count` grains at the fraction: the count is at fault, not
-        // the box the user gave (sample.count = 1 was refused as "sample.box is too small").
-        let edge = (0..3).map(|a| target[a]).fold(f64::INFINITY, f64::min);
-        let needed = (count as f64 * (2.0 * rmax / edge).powi(3)).ceil() + 1.0;
-        return Err(scene.key_error(
-            "sample.count",
-            format!(
-                "= {count} grains at sample.solid_fraction = {solid_fraction} fill a box (sample.box's \
-                 shape, scaled to them) whose shortest edge, {edge:.3e} m, is not longer than the \
-                 largest grain ({:.3e} m across); allowed: sample.count >= about {needed} at \
-                 this fraction (the box grows as the cube root of the count)",
-                2.0 * rmax
-            ),
-        ));
-    }
+    too_few_for_the_box(scene, s.amount, target, rmax)?;
     if (0..3).any(|a| target[a] <= 2.0 * rmax) {
         return Err(scene.key_error(
             "sample.box",
@@ -638,6 +616,35 @@ fn compacted_sample(
     Ok((b, walls, report.steps))
 }
 
+/// With both a count and a fraction the box is scaled to hold `count` grains at the fraction:
+/// when its shortest edge is not longer than the largest grain (of bounding radius `rmax`),
+/// the count is at fault, not the box the user gave (`sample.count = 1` was refused as
+/// "sample.box is too small"). `size` is the scaled box.
+fn too_few_for_the_box(scene: &Scene, amount: Amount, size: Vec3, rmax: f64) -> Result<()> {
+    let Amount::Both {
+        count,
+        solid_fraction,
+    } = amount
+    else {
+        return Ok(());
+    };
+    let edge = (0..3).map(|a| size[a]).fold(f64::INFINITY, f64::min);
+    if edge > 2.0 * rmax {
+        return Ok(());
+    }
+    let needed = (count as f64 * (2.0 * rmax / edge).powi(3)).ceil() + 1.0;
+    Err(scene.key_error(
+        "sample.count",
+        format!(
+            "= {count} grains at sample.solid_fraction = {solid_fraction} fill a box (sample.box's \
+             shape, scaled to them) whose shortest edge, {edge:.3e} m, is not longer than the \
+             largest grain ({:.3e} m across); allowed: sample.count >= about {needed} at \
+             this fraction (the box grows as the cube root of the count)",
+            2.0 * rmax
+        ),
+    ))
+}
+
 /// The solid fraction a refused preparation was asked for, as its sentence names it: the
 /// scene's `sample.solid_fraction` beside what the grains drawn for it fill (`drawn`), or the
 /// latter alone when the scene gives a count.
@@ -699,6 +706,7 @@ fn random_sample(
         ));
     }
     let rmax = radii.iter().copied().fold(0.0, f64::max);
+    too_few_for_the_box(scene, s.amount, size, rmax)?;
     if (0..3).any(|a| size[a] <= 2.0 * rmax) {
         return Err(scene.key_error(
             "sample.box",
