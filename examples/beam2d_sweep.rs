@@ -1,4 +1,4 @@
-//! The paper's Fig. 11 sweep (polygon-beam-fragmentation-2d.txt, Section 3.3.1): β of the
+//! The paper's Fig. 11 sweep (beam2d paper, Section 3.3.1): β of the
 //! fragment mass histogram against both breaking thresholds, for the explosion and the impact.
 //!
 //! ```sh

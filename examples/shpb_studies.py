@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The SHPB studies of poly-ellipsoid-fracture-shpb.txt Section 5 (docs/validation.md, "SHPB
+"""The SHPB studies of the granular paper, Section 5 (docs/validation.md, "SHPB
 studies"): the four packings of Section 5.2 under both readings of the strength model, the
 model switches of Fig. 34, the aspect ratios of Table 4 / Fig. 36, and the main job at wall
 friction 0 and 0.5.

@@ -1,4 +1,4 @@
-//! The dlsm model against the paper's checks (dlsm-voronoi-brittle-elastic.txt, Section 8),
+//! The dlsm model against the paper's checks (dlsm paper, Section 8),
 //! at reduced element counts: apparent E and ν (Table 3), wave frequencies (Eq. 44–45),
 //! tensile strength on a random and a regular sample, the Brazilian test (Eq. 46–48) and
 //! the rolling ball; plus the fabric of the samples, thread independence, resume and bad

@@ -1,4 +1,4 @@
-//! Particle fracture of the granular model (poly-ellipsoid-fracture-shpb.txt, Section 3):
+//! Particle fracture of the granular model (granular paper, Section 3):
 //! the criteria on loaded spheres, the split's conservation and kinematics, and the energy of
 //! breaking springs.
 

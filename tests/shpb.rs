@@ -1,4 +1,4 @@
-//! SHPB compaction of silica sand with breaking grains (poly-ellipsoid-fracture-shpb.txt,
+//! SHPB compaction of silica sand with breaking grains (granular paper,
 //! Section 5), at reduced size: the shipped scenes in smaller boxes (about 200 grains, or
 //! 5 × 5 × 5 lattices), so that the whole file runs in about a minute on two cores. The
 //! full-size runs and their plots are in docs/validation.md.

@@ -1,4 +1,4 @@
-/* fix ID group fractum/fracture: Fractum's grain fracture (poly-ellipsoid-fracture-shpb.txt,
+/* fix ID group fractum/fracture: Fractum's grain fracture (granular paper,
    Section 3) on the owned grains: Hoek-Brown on the average stress and the contact tensile
    stress, Weibull strengths, the split into two sub-poly-ellipsoids (the parent reshaped in
    place, the other half created with a tag that does not depend on the rank count) and the

@@ -1,4 +1,4 @@
-//! The distinct lattice spring model on Voronoi elements (dlsm-voronoi-brittle-elastic.txt,
+//! The distinct lattice spring model on Voronoi elements (dlsm paper,
 //! Sections 2–5): every face shared by two elements is a cohesive contact whose force comes
 //! from Hooke's law applied to a strain built from the displacement of the surroundings.
 //!

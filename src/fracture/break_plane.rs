@@ -1,4 +1,4 @@
-//! Where a grain breaks (poly-ellipsoid-fracture-shpb.txt, Section 3.3): always through its
+//! Where a grain breaks (granular paper, Section 3.3): always through its
 //! octant origin, along one of its three principal planes; which one depends on why it broke
 //! and on how well shaped it is (cases (1)–(5), Algorithm 1). Spheres may first turn their
 //! principal directions to the ideal plane and, with a random slight rotation (Eq. 19–23),

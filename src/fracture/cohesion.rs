@@ -1,4 +1,4 @@
-//! Cohesive springs between the two sub-particles of a split (poly-ellipsoid-fracture-shpb.txt,
+//! Cohesive springs between the two sub-particles of a split (granular paper,
 //! Section 3.4): their initial forces keep the split kinematically invisible (Eq. 39–43), and
 //! their softening law dissipates the fracture energy G_c A (Eq. 35–38).
 //!

@@ -1,4 +1,4 @@
-//! The fracture criteria of a grain (poly-ellipsoid-fracture-shpb.txt, Section 3.1–3.2): the
+//! The fracture criteria of a grain (granular paper, Section 3.1–3.2): the
 //! particle average stress with its dynamic terms (Eq. 8–13), Hoek–Brown on it (Eq. 14), the
 //! maximum tensile stress of a Hertz contact (Eq. 17) and the Weibull strength (Eq. 18).
 //!

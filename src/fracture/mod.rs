@@ -1,4 +1,4 @@
-//! Particle fracture of the granular model (poly-ellipsoid-fracture-shpb.txt, Section 3):
+//! Particle fracture of the granular model (granular paper, Section 3):
 //! the `fracture`, `weibull` and `cohesion` effects.
 //!
 //! After every step, each free grain (one not held by cohesive springs) is checked against

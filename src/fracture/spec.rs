@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Particle fracture of the granular model (poly-ellipsoid-fracture-shpb.txt, Section 3).
+/// Particle fracture of the granular model (granular paper, Section 3).
 /// Stresses in Pa, compression positive where Hoek–Brown is concerned.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]

@@ -1,4 +1,4 @@
-//! Subdivision of a grain into two sub-poly-ellipsoids (poly-ellipsoid-fracture-shpb.txt,
+//! Subdivision of a grain into two sub-poly-ellipsoids (granular paper,
 //! Section 3.3.2) that carry on its motion.
 //!
 //! Split normal to axis k of the shape frame, through the octant origin O, each half becomes a

@@ -1,5 +1,5 @@
 //! The Tchamwa–Wielgosz dissipative explicit scheme in velocity-Verlet form
-//! (dlsm-voronoi-brittle-elastic.txt, Eq. 37–38; Mahéo, Grolleau & Rio 2009).
+//! (dlsm paper, Eq. 37–38; Mahéo, Grolleau & Rio 2009).
 //!
 //! ```text
 //! x(t+dt) = x(t) + dt v(t) + dt²/2 a(t)                      (positions as velocity Verlet)

@@ -65,7 +65,7 @@ pub fn median_diameter(pieces: &[(f64, f64)]) -> f64 {
 /// per log-diameter bin peaks. Bins are `ratio` wide (a diameter d falls in bin
 /// `floor(ln d / ln ratio)`, so every curve of every run shares them); a bin is a mode when it
 /// holds at least `floor` of the mass, more than the bin below and at least as much as the bin
-/// above. Two modes is the bimodal distribution of crushed sand (poly-ellipsoid-fracture-shpb.txt
+/// above. Two modes is the bimodal distribution of crushed sand (granular paper
 /// Fig. 30/31): grains that kept their size, and fragments.
 pub fn modes(pieces: &[(f64, f64)], ratio: f64, floor: f64) -> Vec<f64> {
     let total: f64 = pieces.iter().map(|p| p.0).sum();

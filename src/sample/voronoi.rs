@@ -1,4 +1,4 @@
-//! Voronoi samples for the `dlsm` model (dlsm-voronoi-brittle-elastic.txt, Section 7).
+//! Voronoi samples for the `dlsm` model (dlsm paper, Section 7).
 //!
 //! Seeds come from a noisy grid (Section 7.1: one point per cell of a regular grid, moved by
 //! a uniform noise of range `d` times the cell), a regular grid (d = 0, cubic cells) or a

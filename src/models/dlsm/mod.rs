@@ -1,5 +1,5 @@
 //! The `dlsm` model's run: Voronoi elements joined by the distinct lattice spring model
-//! (dlsm-voronoi-brittle-elastic.txt).
+//! (dlsm paper).
 //!
 //! ```text
 //! loading.prescribe        prescribed velocity components for the step

@@ -1,4 +1,4 @@
-//! The `granular` model (poly-ellipsoid-fracture-shpb.txt): spheres and poly-ellipsoids with
+//! The `granular` model (granular paper): spheres and poly-ellipsoids with
 //! Hertz–Mindlin contacts in a box of walls, and, with `fracture`, grains that break into
 //! sub-poly-ellipsoids held by cohesive springs.
 //!

@@ -1,4 +1,4 @@
-//! Loadings of the `dlsm` model (dlsm-voronoi-brittle-elastic.txt, Section 8): what each
+//! Loadings of the `dlsm` model (dlsm paper, Section 8): what each
 //! prescribes on the elements, what it measures in series.csv, and the results it adds to
 //! summary.json.
 //!
