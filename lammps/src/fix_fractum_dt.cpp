@@ -113,15 +113,16 @@ void FixFractumDt::end_of_step()
     // here the halves' first evaluation is in the step after the decision.
     const bigint step = update->ntimestep;
     if (sums->split_this_step())
-      adapt();
+      adapt(sums->largest_share(world, atom->nlocal));
     else if (step % every == 0 && !sums->split_next_step() && sums->shares_wanted()) {
       // The contacts of the steps just taken: above omega dt 2 some of those steps were
       // unstable, which the adaptation alone shortened without a word (a step 28 times too
       // long ran unchecked between adaptations). Said once, with the step to set; the run
       // goes on at the shortened step. (After a split the halves' contacts are new: their step
       // is shortened before any is taken.)
-      unstable_since_last();
-      adapt();
+      const double sum = sums->largest_share(world, atom->nlocal);
+      unstable_since_last(sum);
+      adapt(sum);
     }
   } else if (sums->shares_wanted()) {
     check();
@@ -134,11 +135,8 @@ void FixFractumDt::end_of_step()
    here) and resolves a contact by few steps above 1.6 (a warning, once). */
 void FixFractumDt::check()
 {
-  const double sum = sums->largest_share(world, atom->nlocal);
   double wdt = 0.0;
-  int verdict = 0;
-  int status = fractum_kernel_step_check(sum, update->dt, &wdt, &verdict);
-  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "step_check", status);
+  const int verdict = step_verdict(sums->largest_share(world, atom->nlocal), wdt);
   const double omega = wdt / update->dt;
   if (verdict == 2)
     error->all(FLERR,
@@ -154,17 +152,25 @@ void FixFractumDt::check()
   if (verdict == 1) warned = true;
 }
 
-/* At a scheduled adaptation: whether the steps since the last one ran above omega dt 2, a
-   warning (once) naming the step and the timestep to set. */
-void FixFractumDt::unstable_since_last()
+/* fractum_kernel_step_check of the present step against the largest frequency share `sum`:
+   the verdict (0 fine, 1 few steps per contact, 2 unstable), omega dt into `wdt`. */
+int FixFractumDt::step_verdict(double sum, double &wdt)
 {
-  if (unstable_warned) return;
-  const double sum = sums->largest_share(world, atom->nlocal);
-  double wdt = 0.0;
   int verdict = 0;
+  wdt = 0.0;
   int status = fractum_kernel_step_check(sum, update->dt, &wdt, &verdict);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "step_check", status);
-  if (verdict != 2) return;
+  return verdict;
+}
+
+/* At a scheduled adaptation, on the largest share `sum` of this step: whether the steps since
+   the last one ran above omega dt 2, a warning (once) naming the step and the timestep to
+   set. */
+void FixFractumDt::unstable_since_last(double sum)
+{
+  if (unstable_warned) return;
+  double wdt = 0.0;
+  if (step_verdict(sum, wdt) != 2) return;
   unstable_warned = true;
   if (comm->me == 0)
     error->warning(FLERR,
@@ -175,10 +181,10 @@ void FixFractumDt::unstable_since_last()
                    STYLE, wdt, update->ntimestep, every, 2.0 * update->dt / wdt);
 }
 
-/* Shortens the step when the largest frequency estimate of this step's contacts asks. */
-void FixFractumDt::adapt()
+/* Shortens the step when the largest frequency estimate of this step's contacts (the largest
+   share `sum`) asks. */
+void FixFractumDt::adapt(double sum)
 {
-  const double sum = sums->largest_share(world, atom->nlocal);
   double next = update->dt;
   int status = fractum_kernel_adapted_step(sum, update->dt, omega_dt, &next);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "adapted_step", status);

@@ -45,9 +45,10 @@ class FixFractumDt : public Fix {
   bool unstable_warned = false;    // the warning of unstable steps between adaptations given
   double shortened = 0.0;
 
-  void adapt();
+  void adapt(double sum);
   void check();
-  void unstable_since_last();
+  int step_verdict(double sum, double &wdt);
+  void unstable_since_last(double sum);
   void schedule();
 };
 

@@ -464,19 +464,21 @@ fn compacted_sample(
             radii.into_iter().map(|r| [r; 3]).collect()
         }
     };
+    let mut solid: f64 = grains.iter().map(volume).sum();
     if let Amount::SolidFraction(phi) = s.amount {
         // Grains are drawn until they fill the fraction, so the last one overshoots it by up to
         // its own volume (in a 1.2 mm box of Mason sand up to 0.04): it is kept only if that
         // lands closer to the fraction than leaving it out, and whole grains that cannot come
         // within the preparations' tolerance of it are refused (the box is too small for them).
-        let solid: f64 = grains.iter().map(volume).sum();
         if grains.len() > 1 {
             let without = solid - volume(grains.last().expect("more than one grain"));
             if (without - phi * box_volume).abs() < (solid - phi * box_volume).abs() {
                 grains.pop();
+                // Summed again, not `without`: the same bits as a sum of the grains kept.
+                solid = grains.iter().map(volume).sum();
             }
         }
-        let drawn = grains.iter().map(volume).sum::<f64>() / box_volume;
+        let drawn = solid / box_volume;
         let tolerance = crate::sample::FRACTION_TOLERANCE;
         if (drawn - phi).abs() > tolerance {
             return Err(scene.key_error(
@@ -487,7 +489,6 @@ fn compacted_sample(
             ));
         }
     }
-    let solid: f64 = grains.iter().map(volume).sum();
     // With both a count and a fraction the box keeps its shape, scaled to the fraction.
     let target = match s.amount {
         Amount::Both { solid_fraction, .. } => size * (solid / solid_fraction / box_volume).cbrt(),
