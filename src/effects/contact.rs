@@ -26,8 +26,7 @@ use crate::contact::pair::{
     wall_contact,
 };
 use crate::contact::records::{
-    ContactRecord, ContactRecords, WALL, give_rows, records_max_frequency, take_rows,
-    tangential_ratio,
+    ContactRecord, ContactRecords, WALL, records_max_frequency, tangential_ratio,
 };
 use crate::error::{Error, Result};
 use crate::parallel::{on_team, split_ranges, team_blocks, team_size};
@@ -74,12 +73,13 @@ pub fn build_contact(params: ContactParams) -> Box<dyn Effect> {
 const PARALLEL_MIN_BODIES_PER_THREAD: usize = 100;
 
 /// A thread's private sums of forces and torques over the bodies `range` (and, POLY, its
-/// contact records and dissipated energy).
+/// contact records and dissipated energy; spheres, the bodies' summed contact stiffness).
 #[derive(Debug, Clone, Default)]
 struct Accumulator {
     range: Range<usize>,
     force: Vec<Vec3>,
     torque: Vec<Vec3>,
+    stiffness: Vec<f64>,
     records: Vec<ContactRecord>,
     dissipated: f64,
 }
@@ -91,6 +91,7 @@ impl Accumulator {
             range,
             force: vec![Vec3::zeros(); n],
             torque: vec![Vec3::zeros(); n],
+            stiffness: vec![0.0; n],
             records: Vec::new(),
             dissipated: 0.0,
         }
@@ -99,6 +100,7 @@ impl Accumulator {
     fn clear(&mut self) {
         self.force.fill(Vec3::zeros());
         self.torque.fill(Vec3::zeros());
+        self.stiffness.fill(0.0);
         self.records.clear();
         self.dissipated = 0.0;
     }
@@ -133,6 +135,10 @@ pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
     chunk_threads: usize,
     pending: Option<SavedHistory>,
     contacts: usize,
+    /// Spheres: each body's summed normal contact stiffness (N/m, walls included) at the last
+    /// evaluation, gathered in the force pass for [`Effect::max_frequency`] (a second walk
+    /// over the neighbour list after every step cost a quarter of a sphere run's time).
+    body_stiffness: Vec<f64>,
     /// POLY: what each pair slot remembers (last normal, held Hertz radius), the placements
     /// of this evaluation and its records.
     pair_memory: Vec<PairMemory>,
@@ -180,6 +186,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             chunk_threads: 0,
             pending: None,
             contacts: 0,
+            body_stiffness: Vec::new(),
             pair_memory: Vec::new(),
             wall_radius: Vec::new(),
             placements: Vec::new(),
@@ -359,6 +366,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         let mut normals = std::mem::take(&mut self.pair_memory);
         let mut reach = std::mem::take(&mut self.pair_reach);
         let mut records = std::mem::take(&mut self.records);
+        let mut stiffness = std::mem::take(&mut self.body_stiffness);
         for i in 0..bodies.len() {
             for s in self.pairs.row(i) {
                 let j = self.pairs.partners[s] as usize;
@@ -379,6 +387,9 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                     if POLY {
                         records.list.push(p.record(i, j as u32));
                         records.dissipated += p.c.dissipated;
+                    } else {
+                        stiffness[i] += p.c.stiffness;
+                        stiffness[j] += p.c.stiffness;
                     }
                     count += 1;
                 }
@@ -388,6 +399,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         self.pair_memory = normals;
         self.pair_reach = reach;
         self.records = records;
+        self.body_stiffness = stiffness;
         self.contacts = count;
     }
 
@@ -482,6 +494,9 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                             if POLY {
                                 acc.records.push(p.record(i, j as u32));
                                 acc.dissipated += p.c.dissipated;
+                            } else {
+                                acc.stiffness[i - lo] += p.c.stiffness;
+                                acc.stiffness[j - lo] += p.c.stiffness;
                             }
                             count += 1;
                         }
@@ -502,13 +517,20 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         let n = forces.force.len();
         #[allow(clippy::single_range_in_vec_init)] // one part: every body
         let ranges = team_blocks(n).unwrap_or_else(|| vec![0..n]);
+        let mut stiffness = std::mem::take(&mut self.body_stiffness);
+        let stiffness_parts = if POLY {
+            ranges.iter().map(|_| &mut [][..]).collect()
+        } else {
+            split_ranges(&mut stiffness, &ranges)
+        };
         let merge: Vec<_> = ranges
             .iter()
             .zip(split_ranges(&mut forces.force, &ranges))
             .zip(split_ranges(&mut forces.torque, &ranges))
+            .zip(stiffness_parts)
             .collect();
         let accs_ref = &accs;
-        on_team(merge, |_, ((range, f), t)| {
+        on_team(merge, |_, (((range, f), t), k_sum)| {
             for (k, i) in range.clone().enumerate() {
                 for acc in accs_ref {
                     if acc.range.contains(&i) {
@@ -516,10 +538,14 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                         if FRIC || POLY {
                             t[k] += acc.torque[i - acc.range.start];
                         }
+                        if !POLY {
+                            k_sum[k] += acc.stiffness[i - acc.range.start];
+                        }
                     }
                 }
             }
         });
+        self.body_stiffness = stiffness;
         self.pair_hist = hist;
         self.pair_memory = normals;
         self.pair_reach = reach;
@@ -538,6 +564,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         let mut wall_hist = std::mem::take(&mut self.wall_hist);
         let mut wall_radius = std::mem::take(&mut self.wall_radius);
         let mut records = std::mem::take(&mut self.records);
+        let mut stiffness = std::mem::take(&mut self.body_stiffness);
         let this = &*self;
         for (w, wall) in walls.walls.iter_mut().enumerate() {
             let cands = &this.wall_lists.candidates[w];
@@ -578,6 +605,8 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                 if POLY {
                     records.list.push(p.record(i, WALL | w as u32));
                     records.dissipated += p.c.dissipated;
+                } else {
+                    stiffness[i] += p.c.stiffness;
                 }
                 wall.force -= p.force;
                 wall.stiffness += p.c.stiffness;
@@ -587,6 +616,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         self.wall_hist = wall_hist;
         self.wall_radius = wall_radius;
         self.records = records;
+        self.body_stiffness = stiffness;
     }
 }
 
@@ -663,6 +693,10 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             self.records.list.clear();
             self.records.dissipated = 0.0;
         }
+        if !POLY {
+            self.body_stiffness.clear();
+            self.body_stiffness.resize(bodies.len(), 0.0);
+        }
         let threads = team_size();
         if threads > 1 && bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
             self.pairs_parallel(bodies, forces, ctx);
@@ -712,57 +746,29 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
     }
 
     /// `max_i sqrt(2 Σ_j k_ij / m_i)` over the normal contact stiffnesses `k = 2 E* a` of
-    /// each body's contacts (walls included): a Gershgorin bound on the highest normal-mode
-    /// frequency, exact for two equal spheres. Hertz contacts stiffen as they overlap, which
-    /// the Rayleigh step does not see.
-    fn max_frequency(&self, bodies: &Bodies, walls: &Walls) -> f64 {
+    /// each body's contacts (walls included) at the last evaluation: a Gershgorin bound on the
+    /// highest normal-mode frequency, exact for two equal spheres. Hertz contacts stiffen as
+    /// they overlap, which the Rayleigh step does not see. The sums are the force pass's
+    /// (`body_stiffness`): the step evaluates its forces at the positions it ends at, so the
+    /// bound after a step is the bound of the state the step left.
+    fn max_frequency(&self, bodies: &Bodies, _walls: &Walls) -> f64 {
         if POLY {
             let tangential = self.params.mindlin.map_or(0.0, |m| {
                 tangential_ratio(m.g_eff * 8.0, 2.0 * self.params.hertz.e_eff)
             });
             return records_max_frequency(&self.records.list, bodies, tangential);
         }
-        if self.pairs.offsets.len() != bodies.len() + 1 {
+        if self.body_stiffness.len() != bodies.len() {
             return 0.0;
         }
-        let two_e = 2.0 * self.params.hertz.e_eff;
-        let mut stiffness = take_rows(bodies.len());
-        for i in 0..bodies.len() {
-            for s in self.pairs.row(i) {
-                let j = self.pairs.partners[s] as usize;
-                let (ri, rj) = (bodies.radius[i], bodies.radius[j]);
-                // Most listed pairs are apart (the list holds a skin): no root for them, as
-                // this runs after every step.
-                let d2 = (bodies.pos[i] - bodies.pos[j]).norm_squared();
-                if d2 < (ri + rj) * (ri + rj) {
-                    let delta = ri + rj - d2.sqrt();
-                    let k = two_e * (ri * rj / (ri + rj) * delta).sqrt();
-                    stiffness[i] += k;
-                    stiffness[j] += k;
-                }
-            }
-        }
-        for (w, wall) in walls.walls.iter().enumerate() {
-            for &i in self
-                .wall_lists
-                .candidates
-                .get(w)
-                .map_or(&[][..], |c| &c[..])
-            {
-                let i = i as usize;
-                let delta = bodies.radius[i] - wall.distance(&bodies.pos[i]);
-                if delta > 0.0 {
-                    stiffness[i] += two_e * (bodies.radius[i] * delta).sqrt();
-                }
-            }
-        }
-        let highest = stiffness
+        // One root for the largest: the root is monotone, so the same bits as the largest root.
+        let largest = self
+            .body_stiffness
             .iter()
             .zip(&bodies.inv_mass)
-            .map(|(k, inv_m)| (2.0 * k * inv_m).sqrt())
+            .map(|(k, inv_m)| 2.0 * k * inv_m)
             .fold(0.0, f64::max);
-        give_rows(stiffness);
-        highest
+        largest.sqrt()
     }
 
     fn save(&self) -> Vec<u8> {
@@ -863,6 +869,92 @@ pub fn default_skin(bodies: &Bodies) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The spheres' frequency estimate is gathered in the force pass: it must be what summing
+    /// `2 E* a` over every overlapping pair and wall, found here by brute force over all
+    /// pairs (no neighbour list), gives — on one thread and on a team of two (whose private
+    /// accumulators are merged with the forces).
+    #[test]
+    fn the_spheres_frequency_estimate_is_the_sum_over_their_overlaps() {
+        let (young, poisson, density) = (60e9, 0.17, 2650.0);
+        let mut bodies = Bodies::default();
+        // 400 spheres on a jittered grid of spacing 0.95 mm, radii 0.45-0.55 mm: most touch
+        // their neighbours, and the outer ones the walls of the box [0, 9.5 mm)^3.
+        let mut seed = 12345u64;
+        let mut rand = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for ix in 0..10 {
+            for iy in 0..10 {
+                for iz in 0..4 {
+                    let jitter = Vec3::new(rand(), rand(), rand()) * 0.05e-3;
+                    let pos = Vec3::new(ix as f64, iy as f64, iz as f64) * 0.95e-3
+                        + Vec3::repeat(0.5e-3)
+                        + jitter;
+                    let r = 0.45e-3 + 0.1e-3 * rand();
+                    bodies.push_sphere(pos, r, density, UnitQuaternion::identity());
+                }
+            }
+        }
+        let mut walls = Walls::new_box(Vec3::zeros(), Vec3::new(9.5e-3, 9.5e-3, 3.8e-3));
+        let hertz = Hertz::new(young, poisson);
+        let two_e = 2.0 * hertz.e_eff;
+        let n = bodies.len();
+        let mut sums = vec![0.0; n];
+        for i in 0..n {
+            for j in i + 1..n {
+                let (ri, rj) = (bodies.radius[i], bodies.radius[j]);
+                let delta = ri + rj - (bodies.pos[i] - bodies.pos[j]).norm();
+                if delta > 0.0 {
+                    let k = two_e * (ri * rj / (ri + rj) * delta).sqrt();
+                    sums[i] += k;
+                    sums[j] += k;
+                }
+            }
+            for wall in &walls.walls {
+                let delta = bodies.radius[i] - wall.distance(&bodies.pos[i]);
+                if delta > 0.0 {
+                    sums[i] += two_e * (bodies.radius[i] * delta).sqrt();
+                }
+            }
+        }
+        let expected = (0..n)
+            .map(|i| (2.0 * sums[i] * bodies.inv_mass[i]).sqrt())
+            .fold(0.0, f64::max);
+        let touching = sums.iter().filter(|&&k| k > 0.0).count();
+        assert!(touching > n / 2, "{touching} of {n} touch");
+        for team in [None, Some(crate::parallel::Team::new(2).unwrap())] {
+            for friction in [None, Some(Mindlin::new(young, poisson, 0.5))] {
+                let mut effect = build_contact(ContactParams {
+                    hertz,
+                    damping: Some(ViscousDamping::from_restitution(0.5)),
+                    mindlin: friction,
+                    wall_friction: None,
+                    skin: None,
+                    shapes: false,
+                });
+                let mut forces = Forces::new(n);
+                let ctx = StepContext {
+                    dt: 1e-9,
+                    update_history: false,
+                };
+                let mut evaluate = || effect.accumulate(&ctx, &bodies, &mut walls, &mut forces);
+                match &team {
+                    Some(t) => t.awake_for(&mut evaluate),
+                    None => evaluate(),
+                }
+                let got = effect.max_frequency(&bodies, &walls);
+                assert!(
+                    (got - expected).abs() <= 1e-12 * expected,
+                    "team {}: {got} against {expected}",
+                    team.is_some()
+                );
+            }
+        }
+    }
 
     /// A saved contact history names its bodies by index; restored into a state of fewer
     /// bodies (a forged or mismatched checkpoint) it is refused naming the body, where the
