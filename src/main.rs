@@ -327,6 +327,58 @@ fn accuracy(
     Ok(())
 }
 
+/// Progress of a run whose stderr is not a terminal: a line at most every
+/// [`ProgressLines::EVERY`] seconds with the step, what the model says of itself (time,
+/// strain), the steps per second since the last line and the time left at that rate (a
+/// fracturing run slows as its pieces multiply: the rate since the start would promise too
+/// little).
+struct ProgressLines {
+    last: std::time::Instant,
+    last_step: u64,
+}
+
+impl ProgressLines {
+    const EVERY: f64 = 30.0;
+
+    fn new(step: u64) -> Self {
+        ProgressLines {
+            last: std::time::Instant::now(),
+            last_step: step,
+        }
+    }
+
+    fn due(&mut self, run: &dyn Run) -> Option<String> {
+        let seconds = self.last.elapsed().as_secs_f64();
+        if seconds < Self::EVERY || run.finished() {
+            return None;
+        }
+        let (step, end) = (run.step(), run.end_step());
+        let rate = step.saturating_sub(self.last_step) as f64 / seconds;
+        self.last = std::time::Instant::now();
+        self.last_step = step;
+        Some(format!(
+            "{}: step {step} of {end} ({:.1}%), {}, {rate:.0} steps/s, about {} left",
+            run.scene().name,
+            100.0 * step as f64 / end as f64,
+            run.status(),
+            duration(end.saturating_sub(step) as f64 / rate),
+        ))
+    }
+}
+
+/// A duration (s) as people read it: `45 s`, `12 min`, `3.2 h`.
+fn duration(seconds: f64) -> String {
+    if !seconds.is_finite() {
+        "an unknown time".to_string()
+    } else if seconds < 120.0 {
+        format!("{seconds:.0} s")
+    } else if seconds < 7200.0 {
+        format!("{:.0} min", seconds / 60.0)
+    } else {
+        format!("{:.1} h", seconds / 3600.0)
+    }
+}
+
 /// Prints one-line notes to stderr unless quiet.
 fn messenger(quiet: bool) -> impl Fn(&str) {
     move |m: &str| {
@@ -367,7 +419,7 @@ fn run(
         let bar = ProgressBar::new(sim.end_step());
         bar.set_style(
             ProgressStyle::with_template(
-                "{elapsed_precise} [{bar:40}] {pos}/{len} steps  {msg}  eta {eta}",
+                "{elapsed_precise} [{bar:40}] {pos}/{len} steps  {per_sec}  {msg}  eta {eta}",
             )
             .expect("valid template")
             .progress_chars("=> "),
@@ -377,6 +429,8 @@ fn run(
     });
     let options = args.run_options();
     let mut warned = sim.warnings().len();
+    // Without a terminal (a log file, a batch job) a line every so often instead of the bar.
+    let mut lines = (!quiet && bar.is_none()).then(|| ProgressLines::new(sim.step()));
     let result = run_to_end(sim.as_mut(), &mut dir, options, &mut |s| {
         for w in &s.warnings()[warned..] {
             match &bar {
@@ -387,8 +441,15 @@ fn run(
         }
         warned = s.warnings().len();
         if let Some(bar) = &bar {
+            // A shortened step moves the end (granular fracture adapts its step).
+            bar.set_length(s.end_step());
             bar.set_position(s.step());
             bar.set_message(s.status());
+        }
+        if let Some(lines) = &mut lines {
+            if let Some(line) = lines.due(s) {
+                eprintln!("{line}");
+            }
         }
     });
     if let Some(bar) = &bar {
