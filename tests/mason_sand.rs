@@ -418,6 +418,13 @@ fn records_at(strain: f64) -> Vec<f64> {
 /// this is the sample those full-size numbers were measured on, so a change to the physics,
 /// the sample or the loading that breaks the agreement fails here. A test, not a fit: the
 /// strengths were calibrated on these records (docs/validation.md says how and on what).
+///
+/// One thread, as every run of the calibration (examples/mason_sand.py). The same sample on
+/// two threads (another summation order, so another trajectory after the first splits)
+/// carried 8.23 and 17.77 MPa against one thread's 8.18 and 11.78: at 0.10 it missed the
+/// widened band (17.71) by 0.3%. One trajectory's stress at 0.10 scatters by half its value
+/// here, so this guards against a change that moves the model's stress, not against the
+/// scatter of one run (docs/validation.md).
 #[test]
 fn the_shipped_scene_carries_the_records_stress_at_0_05_and_0_10_strain() {
     let cache = tempfile::tempdir().unwrap();
@@ -433,7 +440,7 @@ fn the_shipped_scene_carries_the_records_stress_at_0_05_and_0_10_strain() {
             repo().join(SCENE).to_str().unwrap(),
             "--quiet",
             "--threads",
-            "2",
+            "1",
             "--out",
             out.to_str().unwrap(),
             "--set",
