@@ -89,12 +89,13 @@ impl Threads {
         self.pool.as_ref().map_or(1, |p| p.current_num_threads())
     }
 
-    /// Runs `f` on the pool, with the team awake (spinning between jobs) if `team`, or right
-    /// here. A model whose regions use rayon runs without it: team members spinning beside
-    /// rayon's workers would take their cores.
-    pub fn run<R: Send>(&self, team: bool, f: impl FnOnce() -> R + Send) -> R {
+    /// Runs `f` on the pool, with the first `members` of the team awake (spinning between
+    /// jobs) if that is more than one, or right here. A model whose regions use rayon runs
+    /// without it (`members` 1): team members spinning beside rayon's workers would take
+    /// their cores.
+    pub fn run<R: Send>(&self, members: usize, f: impl FnOnce() -> R + Send) -> R {
         on_threads(&self.pool, || match &self.team {
-            Some(t) if team => t.awake_for(f),
+            Some(t) if members > 1 => t.awake_with(members, f),
             _ => f(),
         })
     }
@@ -132,6 +133,9 @@ const EPOCH_SHIFT: u32 = 16;
 
 struct Shared {
     size: usize,
+    /// The members that take part while the team is awake ([`Team::awake_with`]): member
+    /// `m` joins jobs only if `m < active`; the others sleep.
+    active: AtomicUsize,
     /// Bumped once per job; a member tries to join the job when it sees a new value.
     epoch: AtomicU64,
     /// The current job, valid until the members that joined it have finished (written only by
@@ -169,6 +173,7 @@ impl Team {
         let size = size.clamp(1, JOINED as usize);
         let shared = Arc::new(Shared {
             size,
+            active: AtomicUsize::new(size),
             epoch: AtomicU64::new(0),
             job: UnsafeCell::new(None),
             gate: AtomicU64::new(CLOSED),
@@ -196,21 +201,34 @@ impl Team {
         Ok(team)
     }
 
+    /// The members that take part in its jobs: all of them, or fewer while
+    /// [`Team::awake_with`] says so.
     pub fn size(&self) -> usize {
-        self.shared.size
+        self.shared.active.load(Ordering::Relaxed)
     }
 
     /// Runs `f` with this team as the calling thread's team and its members spinning between
     /// jobs; they sleep again when `f` returns (or unwinds).
     pub fn awake_for<R>(&self, f: impl FnOnce() -> R) -> R {
+        self.awake_with(self.shared.size, f)
+    }
+
+    /// [`Team::awake_for`] with only the first `members` members (the caller counted; at
+    /// least one, at most the team): the others sleep, and the work is dealt to these. A step
+    /// whose work pays for fewer threads than the run has keeps that many, instead of none.
+    pub fn awake_with<R>(&self, members: usize, f: impl FnOnce() -> R) -> R {
         struct Restore<'a>(&'a Shared, *const Team);
         impl Drop for Restore<'_> {
             fn drop(&mut self) {
                 self.0.awake.store(false, Ordering::Relaxed);
+                self.0.set_active(self.0.size);
                 TEAM.with(|t| t.set(self.1));
             }
         }
-        let _restore = Restore(&self.shared, TEAM.with(|t| t.replace(self)));
+        // Set while no job is posted (a job runs inside `f` only): no member is inside one.
+        let outer = TEAM.with(|t| t.replace(self));
+        let _restore = Restore(&self.shared, outer);
+        self.shared.set_active(members.clamp(1, self.shared.size));
         self.shared.awake.store(true, Ordering::Relaxed);
         f()
     }
@@ -293,12 +311,21 @@ impl Drop for Team {
 }
 
 impl Shared {
+    /// Lets the first `members` members take part from the next job on, waking those that
+    /// slept out (under the lock, so that none misses the change on its way to sleep).
+    fn set_active(&self, members: usize) {
+        if self.active.swap(members, Ordering::SeqCst) < members {
+            let _guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+            self.bell.notify_all();
+        }
+    }
+
     /// A member's life: wait for a job, join it if it is still open, run it, report, again.
     fn serve(&self, member: usize) {
         let mut seen = 0;
-        while let Some(epoch) = self.next_job(seen) {
+        while let Some(epoch) = self.next_job(seen, member) {
             seen = epoch;
-            if !self.join(epoch) {
+            if member >= self.active.load(Ordering::Acquire) || !self.join(epoch) {
                 continue;
             }
             // SAFETY: published before the gate opened, valid until the joined have finished.
@@ -334,13 +361,24 @@ impl Shared {
     }
 
     /// The next job's epoch after `seen`, or `None` when the team is dropped: spins while the
-    /// team is awake (for at most [`SPIN`]), then sleeps until the caller rings.
-    fn next_job(&self, seen: u64) -> Option<u64> {
+    /// team is awake (for at most [`SPIN`]), then sleeps until the caller rings. A member that
+    /// does not take part (`member` not below [`Shared::active`]) sleeps until it does, uncounted
+    /// by [`Shared::sleeping`], so that jobs do not ring for it.
+    fn next_job(&self, seen: u64, member: usize) -> Option<u64> {
         let start = Instant::now();
         let mut spins = 0u32;
         loop {
             if self.quit.load(Ordering::Acquire) {
                 return None;
+            }
+            if member >= self.active.load(Ordering::Acquire) {
+                let mut guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
+                while member >= self.active.load(Ordering::SeqCst)
+                    && !self.quit.load(Ordering::SeqCst)
+                {
+                    guard = self.bell.wait(guard).unwrap_or_else(|e| e.into_inner());
+                }
+                continue;
             }
             let epoch = self.epoch.load(Ordering::Acquire);
             if epoch != seen {
@@ -353,7 +391,10 @@ impl Shared {
             }
             let mut guard = self.lock.lock().unwrap_or_else(|e| e.into_inner());
             self.sleeping.fetch_add(1, Ordering::SeqCst);
-            while self.epoch.load(Ordering::SeqCst) == seen && !self.quit.load(Ordering::SeqCst) {
+            while self.epoch.load(Ordering::SeqCst) == seen
+                && !self.quit.load(Ordering::SeqCst)
+                && member < self.active.load(Ordering::SeqCst)
+            {
                 guard = self.bell.wait(guard).unwrap_or_else(|e| e.into_inner());
             }
             self.sleeping.fetch_sub(1, Ordering::SeqCst);
@@ -595,6 +636,46 @@ mod tests {
             assert_eq!(finished.load(Ordering::SeqCst), 7);
             assert_eq!(on_team(vec![1, 2, 3], |_, x| x + 1), vec![2, 3, 4]);
         });
+    }
+
+    /// A team awake with fewer members than it has deals its work to those only: the others
+    /// never run a part, and take part again once the whole team is awake.
+    #[test]
+    fn a_team_awake_with_fewer_members_leaves_the_others_out() {
+        let team = Team::new(4).unwrap();
+        let names = |members: Option<usize>| {
+            let run = || {
+                let size = team_size();
+                let mut seen = std::collections::BTreeSet::new();
+                for _ in 0..300 {
+                    let out = on_team((0..64).collect(), |k, x: usize| {
+                        std::thread::sleep(Duration::from_micros(20));
+                        (k, x, std::thread::current().name().map(str::to_owned))
+                    });
+                    assert!(out.iter().enumerate().all(|(k, o)| o.0 == k && o.1 == k));
+                    seen.extend(out.into_iter().filter_map(|o| o.2));
+                }
+                (size, seen)
+            };
+            match members {
+                Some(m) => team.awake_with(m, run),
+                None => team.awake_for(run),
+            }
+        };
+        let (size, seen) = names(Some(2));
+        assert_eq!(size, 2);
+        assert!(
+            seen.iter()
+                .all(|n| !n.starts_with("fractum-team-") || n == "fractum-team-1"),
+            "{seen:?}"
+        );
+        let (size, seen) = names(None);
+        assert_eq!(size, 4);
+        assert!(
+            seen.contains("fractum-team-2") || seen.contains("fractum-team-3"),
+            "{seen:?}"
+        );
+        assert_eq!(team_size(), 1);
     }
 
     #[test]

@@ -292,11 +292,12 @@ pub trait Model: Send + Sized {
     /// `fractum explain`: what the scene builds, without building it.
     fn explain(scene: &Scene) -> Result<String>;
 
-    /// Whether the step's parallel regions run on the run's worker team
-    /// ([`crate::parallel::Team`], awake while the run advances) rather than on rayon or the
-    /// caller alone, for an advance on `threads` threads.
-    fn use_team(&self, _threads: usize) -> bool {
-        false
+    /// How many of the run's `threads` the step's parallel regions run on, as the run's worker
+    /// team ([`crate::parallel::Team`], awake while the run advances); 1: on rayon or the
+    /// caller alone. As many as pay, not all or none: a step with work for five threads on a
+    /// run of sixteen takes five.
+    fn team_members(&self, _threads: usize) -> usize {
+        1
     }
 
     /// Builds the model a scene describes (runs on the run's threads).
@@ -648,7 +649,7 @@ impl<M: Model> Runner<M> {
         progress: &mut (dyn FnMut(&str) + Send),
     ) -> Result<Self> {
         let threads = Threads::new(threads)?;
-        let built = threads.run(false, || M::build(&scene, progress))?;
+        let built = threads.run(1, || M::build(&scene, progress))?;
         Runner::start(scene, built, threads)
     }
 
@@ -721,7 +722,7 @@ impl<M: Model> Runner<M> {
             ))
         })?;
         let threads = Threads::new(threads)?;
-        let model = threads.run(false, || M::restore(&scene, &s.model))?;
+        let model = threads.run(1, || M::restore(&scene, &s.model))?;
         if let Some(i) = model.first_non_finite() {
             return Err(Error::run(format!(
                 "the saved {} state is inconsistent: {} {i} has a non-finite position or velocity",
@@ -747,7 +748,7 @@ impl<M: Model> Runner<M> {
 
     /// Takes steps with `one` (which returns false when there is none left to take) on the
     /// run's threads, against one call's [`CallLimits`]. The model's choice of the worker team
-    /// ([`Model::use_team`]) is read again after every step and the threads re-entered when it
+    /// ([`Model::team_members`]) is read again after every step and the threads re-entered when it
     /// changes (a granular run of spheres gets its first poly-ellipsoid at a split): it follows
     /// the state, not how the caller cuts its run into `advance` calls. Before, it was read
     /// once per call: one `advance` over a whole run of spheres that break kept the pieces off
@@ -761,13 +762,13 @@ impl<M: Model> Runner<M> {
         let limits = self.limits.clone();
         let mut budget = Budget::start(&limits);
         loop {
-            let team = self.model.use_team(threads.count());
+            let team = self.model.team_members(threads.count());
             let done = threads.run(team, || -> Result<bool> {
                 loop {
                     if !one(self, &mut budget)? {
                         return Ok(true);
                     }
-                    if self.model.use_team(threads.count()) != team {
+                    if self.model.team_members(threads.count()) != team {
                         return Ok(false);
                     }
                 }

@@ -198,7 +198,7 @@ fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
 }
 
 /// Spheres per thread from which a granular step runs on the worker team (see
-/// `Model::use_team` below).
+/// `Model::team_members` below).
 const TEAM_MIN_SPHERES_PER_THREAD: usize = 1500;
 
 /// Steps between the stability checks and step adaptations of a granular run that adapts its
@@ -812,13 +812,20 @@ impl Model for Granular {
         self.state.bodies.len()
     }
 
-    /// Poly-ellipsoids (a Newton solve per pair), or many spheres: a sphere pair costs tens
-    /// of nanoseconds, and handing half the bodies to another core (whose cache then fetches
-    /// the bodies the caller just moved) cost more than it saved (2-core CI machine, 1000
-    /// dense spheres: 0.92x of one thread on the team, 0.86x at 2000 with rayon).
-    fn use_team(&self, threads: usize) -> bool {
+    /// Poly-ellipsoids (a Newton solve per pair): every thread. Spheres: one thread per
+    /// [`TEAM_MIN_SPHERES_PER_THREAD`], at most `threads`: a sphere pair costs tens of
+    /// nanoseconds, and handing half the bodies to another core (whose cache then fetches the
+    /// bodies the caller just moved) cost more than it saved (2-core CI machine, 1000 dense
+    /// spheres: 0.92x of one thread on the team, 0.86x at 2000 with rayon). Before, a run
+    /// with more threads than its spheres paid for took none of them (8000 spheres on a
+    /// 16-core machine: 3.35e6 particle-steps/s on 1 thread, 5.49e6 on 4, 3.04e6 on 16).
+    fn team_members(&self, threads: usize) -> usize {
         let b = &self.state.bodies;
-        b.len() >= TEAM_MIN_SPHERES_PER_THREAD * threads || b.shape.iter().any(|s| !s.is_sphere())
+        if b.shape.iter().any(|s| !s.is_sphere()) {
+            threads
+        } else {
+            (b.len() / TEAM_MIN_SPHERES_PER_THREAD).clamp(1, threads.max(1))
+        }
     }
 
     fn step(&mut self, _clock: &Clock, dt: f64) {
