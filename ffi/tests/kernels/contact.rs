@@ -138,8 +138,8 @@ fn pair_gives_the_library_bits() {
                 let placed_before = mem;
                 let s = fractum_kernel_pair(
                     &law,
-                    &body_out(&a),
-                    &body_out(&b),
+                    &c_body(&a),
+                    &c_body(&b),
                     &mut mem,
                     dt,
                     i32::from(update),
@@ -151,21 +151,21 @@ fn pair_gives_the_library_bits() {
                 // Placed once per body, as a caller with many pairs does: the same bits,
                 // and the placement is the run's.
                 let (mut pa, mut pb) = (FractumPlacement::default(), FractumPlacement::default());
-                assert_eq!(fractum_kernel_placement(&body_out(&a), &mut pa), FRACTUM_OK);
-                assert_eq!(fractum_kernel_placement(&body_out(&b), &mut pb), FRACTUM_OK);
+                assert_eq!(fractum_kernel_placement(&c_body(&a), &mut pa), FRACTUM_OK);
+                assert_eq!(fractum_kernel_placement(&c_body(&b), &mut pb), FRACTUM_OK);
                 for (given, run) in [(&pa, &placements.first()), (&pb, &placements.get(1))] {
                     if let Some(run) = run {
                         assert_eq!(bits(&given.origin), vb(&run.origin));
-                        assert_eq!(bits(&given.rot), bits(&matrix_out(&run.rot)));
+                        assert_eq!(bits(&given.rot), bits(&c_rows(&run.rot)));
                     }
                 }
                 let mut placed = FractumContact::default();
                 let mut placed_mem = placed_before;
                 let s = fractum_kernel_pair_placed(
                     &law,
-                    &body_out(&a),
+                    &c_body(&a),
                     &pa,
-                    &body_out(&b),
+                    &c_body(&b),
                     &pb,
                     &mut placed_mem,
                     dt,
@@ -219,7 +219,7 @@ fn pair_row_gives_the_pair_kernels_bits_with_and_without_the_skip() {
         let dt = 2e-8;
         for step in 0..40 {
             let update = i32::from(step > 0);
-            let fbs: Vec<FractumBody> = bodies.iter().map(body_out).collect();
+            let fbs: Vec<FractumBody> = bodies.iter().map(c_body).collect();
             let places: Vec<FractumPlacement> = fbs
                 .iter()
                 .map(|b| {
@@ -315,10 +315,10 @@ fn pair_row_gives_the_pair_kernels_bits_with_and_without_the_skip() {
                 first += m;
             }
             for (b, t) in bodies.iter_mut().zip(&mut travel) {
-                let before = body_out(b);
+                let before = c_body(b);
                 b.pos += b.vel * h;
                 b.orientation = UnitQuaternion::from_scaled_axis(b.omega * h) * b.orientation;
-                assert_eq!(fractum_kernel_travel(&before, &body_out(b), t), FRACTUM_OK);
+                assert_eq!(fractum_kernel_travel(&before, &c_body(b), t), FRACTUM_OK);
             }
         }
     }
@@ -339,7 +339,7 @@ fn travel_adds_the_library_step() {
         b.orientation = UnitQuaternion::from_scaled_axis(d.vec(0.01)) * a.orientation;
         let mut t = 0.25e-3;
         assert_eq!(
-            fractum_kernel_travel(&body_out(&a), &body_out(&b), &mut t),
+            fractum_kernel_travel(&c_body(&a), &c_body(&b), &mut t),
             FRACTUM_OK
         );
         let step = travel_step(&a.pos, &a.orientation, &b.pos, &b.orientation, b.radius);
@@ -373,13 +373,12 @@ fn convex_and_wall_geometry_give_the_library_bits() {
         let g = convex::contact(&at(0).placed(), &at(1).placed(), &guess);
         touching += usize::from(g.is_some());
         let mut out = FractumGeometry::default();
-        let s =
-            fractum_kernel_convex_contact(&body_out(&a), &body_out(&b), guess.as_ptr(), &mut out);
+        let s = fractum_kernel_convex_contact(&c_body(&a), &c_body(&b), guess.as_ptr(), &mut out);
         assert_eq!(s, FRACTUM_OK);
         same_geometry(&out, &g);
         let wp = a.pos - u * (d.range(0.3, 1.05) * a.radius);
         let g = convex::wall_contact(&at(0).placed(), &u, &wp);
-        let s = fractum_kernel_wall_geometry(&body_out(&a), u.as_ptr(), wp.as_ptr(), &mut out);
+        let s = fractum_kernel_wall_geometry(&c_body(&a), u.as_ptr(), wp.as_ptr(), &mut out);
         assert_eq!(s, FRACTUM_OK);
         same_geometry(&out, &g);
     }
@@ -417,7 +416,7 @@ fn wall_gives_the_library_bits() {
                 let mut out = FractumContact::default();
                 let s = fractum_kernel_wall(
                     &law,
-                    &body_out(&a),
+                    &c_body(&a),
                     n.as_ptr(),
                     wp.as_ptr(),
                     wv.as_ptr(),
@@ -457,7 +456,7 @@ fn poly_ellipsoid_body_is_what_the_run_adds() {
             &mut out,
         );
         assert_eq!(s, FRACTUM_OK);
-        assert_eq!(body_bits(&out), body_bits(&body_out(&bodies.body(0))));
+        assert_eq!(body_bits(&out), body_bits(&c_body(&bodies.body(0))));
         let mut v = 0.0;
         assert_eq!(fractum_kernel_body_volume(&out, &mut v), FRACTUM_OK);
         assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
@@ -465,7 +464,67 @@ fn poly_ellipsoid_body_is_what_the_run_adds() {
     let mut bodies = Bodies::default();
     bodies.push_sphere(Vec3::zeros(), 0.7e-3, 2500.0, d.quat());
     let mut v = 0.0;
-    let s = fractum_kernel_body_volume(&body_out(&bodies.body(0)), &mut v);
+    let s = fractum_kernel_body_volume(&c_body(&bodies.body(0)), &mut v);
     assert_eq!(s, FRACTUM_OK);
     assert_eq!(v.to_bits(), bodies.volume(0).to_bits());
+}
+
+/// The body the poly-ellipsoid kernel makes, each field of the FractumBody against the number
+/// its doc gives, written out by hand (no conversion on the test's side): the shape of
+/// [`hand_body`] at rest at (1, 2, 3), its shape frame turned 120 degrees about (1, 1, 1).
+/// Lopsided along x only, its principal frame is its shape frame, so the body frame is the
+/// shape frame.
+#[test]
+fn poly_ellipsoid_body_fields_by_hand() {
+    let (centre, shape_quat) = ([1.0, 2.0, 3.0], [0.5, 0.5, 0.5, 0.5]);
+    let mut out = FractumBody::default();
+    let s = fractum_kernel_poly_ellipsoid_body(
+        HAND_SEMI.as_ptr(),
+        10.0,
+        centre.as_ptr(),
+        shape_quat.as_ptr(),
+        &mut out,
+    );
+    assert_eq!(s, FRACTUM_OK);
+    assert_eq!(out.pos, [1.0, 2.0, 3.0]);
+    assert_eq!(out.vel, [0.0; 3], "at rest");
+    assert_eq!(out.omega, [0.0; 3], "at rest");
+    assert_eq!(
+        out.quat,
+        [0.5, 0.5, 0.5, 0.5],
+        "body to world: the shape's turn"
+    );
+    assert_eq!(out.mass, 10.0);
+    // The tip of a+, 1 - 0.0375 from the centre of mass (the library's bound lies 1e-9 above).
+    assert!((out.radius / 0.9625 - 1.0).abs() < 2e-9, "{}", out.radius);
+    assert_eq!(out.semi, [1.0, 0.9, 0.3, 0.3, 0.2, 0.2]);
+    near(&out.origin, &[-0.0375, 0.0, 0.0]);
+    assert_eq!(
+        out.to_body,
+        [1.0, 0.0, 0.0, 0.0],
+        "shape to body: the identity"
+    );
+    near(&out.inertia, &moments_lopsided_x(&HAND_SEMI, 10.0));
+    assert_eq!(out.sphere, 0);
+}
+
+/// A placement's rotation is row-major, element 1 the (0, 1) entry: [`hand_body`]'s shape
+/// frame (180 degrees about x in a body turned 120 degrees about (1, 1, 1)) has its x axis
+/// along world y, its y along -z and its z along -x, the columns of the rotation; a
+/// transposed matrix would put them in the rows. The octant origin: 0.0375 behind the centre
+/// along the shape's x, world y.
+#[test]
+fn placement_rotation_is_row_major_by_hand() {
+    let mut p = FractumPlacement::default();
+    assert_eq!(fractum_kernel_placement(&hand_body(), &mut p), FRACTUM_OK);
+    #[rustfmt::skip]
+    let rows = [
+        0.0, 0.0, -1.0,
+        1.0, 0.0, 0.0,
+        0.0, -1.0, 0.0,
+    ];
+    near(&p.rot, &rows);
+    // Element 1 is the (0, 1) entry, 0; element 3 the (1, 0) entry, 1.
+    near(&[p.rot[1], p.rot[3]], &[0.0, 1.0]);
+    near(&p.origin, &[1.0, 2.0 - 0.0375, 3.0]);
 }

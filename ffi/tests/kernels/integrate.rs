@@ -53,16 +53,8 @@ fn frequency_share_and_adapted_step_give_the_library_bits() {
             b.pos = a.pos - d.unit() * (0.9 * (a.radius + b.radius));
             let mut mem = FractumPairMemory::default();
             let mut c = FractumContact::default();
-            let s = fractum_kernel_pair(
-                &law,
-                &body_out(&a),
-                &body_out(&b),
-                &mut mem,
-                2e-8,
-                1,
-                1,
-                &mut c,
-            );
+            let s =
+                fractum_kernel_pair(&law, &c_body(&a), &c_body(&b), &mut mem, 2e-8, 1, 1, &mut c);
             assert_eq!(s, FRACTUM_OK);
             if c.touching == 0 {
                 continue;
@@ -82,7 +74,7 @@ fn frequency_share_and_adapted_step_give_the_library_bits() {
                 stiffness: c.stiffness,
                 energy: c.energy,
             };
-            let (fa, fb_) = (body_out(&a), body_out(&b));
+            let (fa, fb_) = (c_body(&a), c_body(&b));
             let mut shares = [f64::NAN; 2];
             for (k, (own, other)) in [(&fa, &fb_), (&fb_, &fa)].into_iter().enumerate() {
                 let s = fractum_kernel_frequency_share(&law, &c, own, other, &mut shares[k]);

@@ -1,15 +1,13 @@
 //! Every kernel export, called through the C ABI of libfractum.so (abi.rs), against the
 //! library function it wraps called directly on the run's own data (Bodies, placements): the
 //! same bits. contact.rs, fracture.rs and integrate.rs by library area; refusals.rs what the
-//! kernels refuse.
+//! kernels refuse. Inputs and expected outputs are converted by the tests' own reference.rs,
+//! written from the header's field docs, never by the kernels' conversions they check.
 
 #[path = "../common/mod.rs"]
 mod common;
 // The library's own definitions of the status and the structs, and every export's signature:
 // not every test names each.
-#[allow(dead_code)]
-#[path = "../../src/kernels/convert.rs"]
-mod convert;
 #[allow(dead_code)]
 #[path = "../../src/status.rs"]
 mod status;
@@ -25,10 +23,10 @@ mod abi;
 mod contact;
 mod fracture;
 mod integrate;
+mod reference;
 mod refusals;
 
 use abi::*;
-use convert::{body_out, fracture_params_in, matrix_out, spring_out};
 use fractum::contact::convex::{self, ContactGeometry};
 use fractum::contact::hertz_mindlin::{
     Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
@@ -47,6 +45,7 @@ use fractum::sample::{UNIFORM_COUNTERS, uniforms};
 use fractum::shape::PolyEllipsoid;
 use fractum::state::{Bodies, Body, Vec3};
 use nalgebra::{Matrix3, UnitQuaternion};
+use reference::{c_body, c_rows, c_spring, law_params};
 use status::FractumStatus::*;
 use std::ptr::{null, null_mut};
 use types::*;
@@ -106,6 +105,66 @@ fn random_body(d: &mut Draw, sphere: bool) -> Body {
     b.vel = d.vec(2.0);
     b.omega = d.vec(2000.0);
     b
+}
+
+/// `actual` is `expected` to round-off (1e-12, relative above 1): for the hand-written
+/// values that the library reaches by another order of operations than the test's.
+fn near(actual: &[f64], expected: &[f64]) {
+    assert_eq!(actual.len(), expected.len());
+    for (k, (a, e)) in actual.iter().zip(expected).enumerate() {
+        assert!(
+            (a - e).abs() <= 1e-12 * e.abs().max(1.0),
+            "element {k}: {actual:?} is not {expected:?}"
+        );
+    }
+}
+
+/// The principal moments (kg m^2) of a poly-ellipsoid of mass `mass` whose semi-axes differ
+/// between + and - along x only (b+ = b-, c+ = c-): its products of inertia vanish, so its
+/// principal frame is its shape frame (PolyEllipsoid::principal_inertia: the identity) and
+/// the moments follow from the octants' second moments (an octant of semi-axes a b c has
+/// the volume pi a b c / 6, and the integral of x^2 over it is a^2 / 5 times that), moved
+/// from the octant origin to the centroid, 3/8 (a+ - a-) along x.
+fn moments_lopsided_x(semi: &[f64; 6], mass: f64) -> [f64; 3] {
+    let [ap, am, b, bm, c, cm] = *semi;
+    assert!(b == bm && c == cm, "lopsided along x only");
+    let pi = std::f64::consts::PI;
+    let volume = pi / 6.0 * (ap + am) * (2.0 * b) * (2.0 * c);
+    let x_bar = 0.375 * (ap - am);
+    let xx = pi / 30.0 * (ap.powi(3) + am.powi(3)) * (2.0 * b) * (2.0 * c) - volume * x_bar * x_bar;
+    let yy = pi / 30.0 * (ap + am) * (2.0 * b.powi(3)) * (2.0 * c);
+    let zz = pi / 30.0 * (ap + am) * (2.0 * b) * (2.0 * c.powi(3));
+    let density = mass / volume;
+    [
+        density * (yy + zz),
+        density * (xx + zz),
+        density * (xx + yy),
+    ]
+}
+
+/// The semi-axes of the poly-ellipsoid of [`hand_body`]: lopsided along x only.
+const HAND_SEMI: [f64; 6] = [1.0, 0.9, 0.3, 0.3, 0.2, 0.2];
+
+/// A poly-ellipsoid written out field by field, each a recognisable number: centre (1, 2, 3),
+/// velocity (4, 5, 6), angular velocity (7, 8, 9), body to world 120 degrees about (1, 1, 1)
+/// (x to y, y to z, z to x), 10 kg, the semi-axes [`HAND_SEMI`] (so its principal frame is
+/// its shape frame, and what the kernels make of it follows by hand), the shape frame turned
+/// 180 degrees about x in the body frame, the octant origin 3/8 (a+ - a-) = 0.0375 behind the
+/// centre of mass along x, its bounding radius the tip of a+ from there.
+fn hand_body() -> FractumBody {
+    FractumBody {
+        pos: [1.0, 2.0, 3.0],
+        vel: [4.0, 5.0, 6.0],
+        omega: [7.0, 8.0, 9.0],
+        quat: [0.5, 0.5, 0.5, 0.5],
+        mass: 10.0,
+        radius: 0.9625,
+        semi: HAND_SEMI,
+        origin: [-0.0375, 0.0, 0.0],
+        to_body: [0.0, 1.0, 0.0, 0.0],
+        inertia: moments_lopsided_x(&HAND_SEMI, 10.0),
+        sphere: 0,
+    }
 }
 
 fn bits(x: &[f64]) -> Vec<u64> {

@@ -7,8 +7,8 @@ use super::*;
 fn null_pointers_and_bad_input_are_refused() {
     let mut d = Draw::new(11);
     let (law, _) = laws(true, true, 0.3);
-    let sphere = body_out(&random_body(&mut d, true));
-    let poly = body_out(&random_body(&mut d, false));
+    let sphere = c_body(&random_body(&mut d, true));
+    let poly = c_body(&random_body(&mut d, false));
     let mut bad = poly;
     bad.semi[3] = -1e-4;
     let mut nan = poly;
@@ -254,7 +254,7 @@ fn split_of_a_grain_without_size_or_mass_is_refused_as_input() {
     };
     let v = [0.0; 3];
     for sphere in [true, false] {
-        let good = body_out(&random_body(&mut d, sphere));
+        let good = c_body(&random_body(&mut d, sphere));
         for (radius, mass) in [
             (0.0, good.mass),
             (-1e-3, good.mass),
