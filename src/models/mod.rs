@@ -43,7 +43,7 @@ const fn entry<M: Model + 'static>() -> Entry {
         knows_value: knows_value::<M>,
         build: |scene, threads, progress| Ok(Box::new(Runner::<M>::new(scene, threads, progress)?)),
         restore: |scene, bytes, threads| Ok(Box::new(Runner::<M>::restore(scene, bytes, threads)?)),
-        explain: M::explain,
+        explain: |scene| M::explain(scene, &M::read(scene)?),
     }
 }
 
@@ -95,16 +95,15 @@ fn check_shared<M: Model + 'static>(scene: &Scene) -> Result<()> {
             continue;
         }
         if let Some(owner) = others(M::KIND, |e| (e.knows_value)(&table)) {
-            let allowed =
-                serde_path_to_error::deserialize::<_, M::Section>(toml::Value::Table(table))
-                    .err()
-                    .and_then(|e| {
-                        let m = e.inner().message().to_string();
-                        m.split_once("expected ")
-                            .map(|(_, tail)| tail.replace('`', ""))
-                    })
-                    .map(|a| format!("; allowed values: {}", a.trim_start_matches("one of ")))
-                    .unwrap_or_default();
+            let allowed = serde_path_to_error::deserialize::<_, M::Raw>(toml::Value::Table(table))
+                .err()
+                .and_then(|e| {
+                    let m = e.inner().message().to_string();
+                    m.split_once("expected ")
+                        .map(|(_, tail)| tail.replace('`', ""))
+                })
+                .map(|a| format!("; allowed values: {}", a.trim_start_matches("one of ")))
+                .unwrap_or_default();
             return Err(scene.key_error(
                 key,
                 format!("= {value} belongs to {owner}, not to this scene's {here}{allowed}"),
@@ -163,7 +162,7 @@ fn check_shared<M: Model + 'static>(scene: &Scene) -> Result<()> {
 /// model does not have is refused by name, with the model that has it when another does.
 fn check<M: Model + 'static>(scene: &Scene) -> Result<()> {
     check_shared::<M>(scene)?;
-    let section: M::Section = scene.section_or_path().map_err(|(path, message)| {
+    let raw: M::Raw = scene.section_or_path().map_err(|(path, message)| {
         let text = describe(&path, &message, &scene.source.overridden);
         let Some(field) = message
             .strip_prefix("unknown field `")
@@ -195,7 +194,7 @@ fn check<M: Model + 'static>(scene: &Scene) -> Result<()> {
         };
         Error::input(&scene.source.label, text)
     })?;
-    M::validate(scene, &section)
+    M::config(scene, &raw).map(drop)
 }
 
 /// The value at `key` (a dotted path) in `tables`.
@@ -230,7 +229,7 @@ fn single_key(tables: &toml::Table, key: &str) -> toml::Table {
 /// Whether `table` (one key path) names a key of model `M`: reading it into the section
 /// fails for anything but an unknown key (a missing key, a wrong type) when the key exists.
 fn knows<M: Model + 'static>(table: &toml::Table) -> bool {
-    match serde_path_to_error::deserialize::<_, M::Section>(toml::Value::Table(table.clone())) {
+    match serde_path_to_error::deserialize::<_, M::Raw>(toml::Value::Table(table.clone())) {
         Ok(_) => true,
         Err(e) => !e.inner().message().starts_with("unknown field"),
     }
@@ -239,7 +238,7 @@ fn knows<M: Model + 'static>(table: &toml::Table) -> bool {
 /// Whether the value in `table` (one key path) is one model `M` accepts there: reading it
 /// fails for anything but an unknown key or value.
 fn knows_value<M: Model + 'static>(table: &toml::Table) -> bool {
-    match serde_path_to_error::deserialize::<_, M::Section>(toml::Value::Table(table.clone())) {
+    match serde_path_to_error::deserialize::<_, M::Raw>(toml::Value::Table(table.clone())) {
         Ok(_) => true,
         Err(e) => {
             let m = e.inner().message();

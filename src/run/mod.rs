@@ -86,18 +86,14 @@ pub const MIN_STEPS: f64 = 2.0;
 
 /// Refuses a loading of `end_time` seconds at steps of `dt` seconds that needs more than
 /// [`MAX_STEPS`] steps, naming `time.dt`; an endless loading (driven from outside) passes.
-pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> {
+/// `young` is the model's `material.young` (Pa), which the critical step scales with as
+/// 1/√young in every model: the messages name it when it is at fault.
+pub fn check_planned_steps(scene: &Scene, young: f64, end_time: f64, dt: f64) -> Result<()> {
     if end_time.is_infinite() && end_time > 0.0 {
         return Ok(());
     }
     let steps = end_time / dt;
     let auto = matches!(scene.time.dt, crate::scene::DtSpec::Auto);
-    // The critical step scales as 1/sqrt(young) in every model.
-    let young = scene
-        .tables
-        .get("material")
-        .and_then(|m| m.get("young"))
-        .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)));
     if auto && steps.is_finite() && steps < MIN_STEPS && end_time > 0.0 {
         // A step across most of the loading is no run: shpb_sand with a Young's modulus of
         // 1e3 Pa and a short loading took one step to 7 times its end strain and exited 0
@@ -107,9 +103,9 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
         // long one on purpose to see a run go unstable.
         let longest = end_time / MIN_STEPS;
         // The critical step grows as 1/√young: the modulus that gives `longest`.
-        let young_needed = young.map(|y| (dt * y.sqrt() / longest).powi(2));
-        return Err(match young {
-            Some(young) if young >= YOUNG_SOFTEST => scene.key_error(
+        let young_needed = (dt * young.sqrt() / longest).powi(2);
+        return Err(if young >= YOUNG_SOFTEST {
+            scene.key_error(
                 "time.dt",
                 format!(
                     "= \"auto\" gives a step of {dt:.3e} s (time.safety x the critical step of the \
@@ -120,36 +116,27 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
                      rate and its end), or time.dt in seconds of at most {longest:.3e} s",
                     dt * MIN_STEPS
                 ),
-            ),
-            Some(young) if !dt.is_finite() || !young_needed.is_some_and(f64::is_finite) => {
-                // A modulus such as 5e-324 Pa gives an infinite step: "material.young >= inf
-                // Pa" said nothing.
-                scene.key_error(
-                    "material.young",
-                    format!(
-                        "= {young:e} Pa is too soft for time.dt = \"auto\": the step comes out as \
-                         {dt:e} s (it grows as 1/√young), and the loading ends at {end_time:.3e} s; \
-                         allowed: a material.young for which the step is at most half the loading \
-                         (a solid's modulus, 1e6 Pa and up)"
-                    ),
-                )
-            }
-            Some(young) => scene.key_error(
+            )
+        } else if !dt.is_finite() || !young_needed.is_finite() {
+            // A modulus such as 5e-324 Pa gives an infinite step: "material.young >= inf
+            // Pa" said nothing.
+            scene.key_error(
                 "material.young",
                 format!(
-                    "= {young:e} Pa is too soft for this loading under time.dt = \"auto\": the step comes out as {dt:.3e} s, and the loading (its end at {end_time:.3e} s) would take {steps:.2} steps, fewer than {MIN_STEPS}; allowed: material.young >= {:.3e} Pa at this loading and time.safety, or a loading that lasts at least {:.3e} s",
-                    young_needed.unwrap_or(f64::NAN),
+                    "= {young:e} Pa is too soft for time.dt = \"auto\": the step comes out as \
+                     {dt:e} s (it grows as 1/√young), and the loading ends at {end_time:.3e} s; \
+                     allowed: a material.young for which the step is at most half the loading \
+                     (a solid's modulus, 1e6 Pa and up)"
+                ),
+            )
+        } else {
+            scene.key_error(
+                "material.young",
+                format!(
+                    "= {young:e} Pa is too soft for this loading under time.dt = \"auto\": the step comes out as {dt:.3e} s, and the loading (its end at {end_time:.3e} s) would take {steps:.2} steps, fewer than {MIN_STEPS}; allowed: material.young >= {young_needed:.3e} Pa at this loading and time.safety, or a loading that lasts at least {:.3e} s",
                     dt * MIN_STEPS
                 ),
-            ),
-            None => scene.key_error(
-                "time.safety",
-                format!(
-                    "= {} gives a step of {dt:.3e} s, and the loading (its end at {end_time:.3e} s) would take {steps:.2} steps, fewer than {MIN_STEPS}; allowed: time.safety <= {:.3e} at this loading",
-                    scene.time.safety,
-                    scene.time.safety * longest / dt
-                ),
-            ),
+            )
         });
     }
     if steps.is_finite() && steps <= MAX_STEPS {
@@ -158,14 +145,12 @@ pub fn check_planned_steps(scene: &Scene, end_time: f64, dt: f64) -> Result<()> 
     if auto && !dt.is_normal() {
         // The critical step scales as 1/sqrt(young): a modulus near the largest double gives a
         // zero or denormal step, and "time.dt = 0 s needs inf steps" blamed the wrong key.
-        if let Some(young) = young {
-            return Err(scene.key_error(
-                "material.young",
-                format!(
-                    "= {young:e} Pa is too stiff for time.dt = \"auto\": the critical step of the material and sample comes out as {dt:e} s (zero or denormal), which cannot reach the end of the loading at {end_time:.4e} s within the limit of 1e9 steps; lower material.young"
-                ),
-            ));
-        }
+        return Err(scene.key_error(
+            "material.young",
+            format!(
+                "= {young:e} Pa is too stiff for time.dt = \"auto\": the critical step of the material and sample comes out as {dt:e} s (zero or denormal), which cannot reach the end of the loading at {end_time:.4e} s within the limit of 1e9 steps; lower material.young"
+            ),
+        ));
     }
     let how = match scene.time.dt {
         crate::scene::DtSpec::Auto => {
@@ -278,19 +263,29 @@ pub trait Model: Send + Sized {
     const KIND: &'static str;
     /// What one body is called in messages ("body", "element", "polygon").
     const BODY: &'static str;
-    /// The model's own tables of a scene (material, sample, loading, ...), typed; keys of
-    /// other models are refused when they are read (see [`Scene::section`]).
-    type Section: DeserializeOwned;
+    /// The model's own tables of a scene (material, sample, loading, ...) as serde reads
+    /// them, before any check: only the registry reads this form (to name a key another
+    /// model has), and only [`Model::config`] turns it into the model's scene.
+    type Raw: DeserializeOwned;
+    /// The model's scene, typed and checked: what [`Model::build`], [`Model::restore`] and
+    /// [`Model::explain`] take, read once per run ([`Model::read`]).
+    type Config: Send;
     /// The effects, integrators and shared model-specific keys (`time.phi`,
     /// `output.report_strains`) the model has; the registry refuses the others by name.
     const EFFECTS: &'static [EffectKind];
     const INTEGRATORS: &'static [IntegratorKind];
     const SHARED_KEYS: &'static [&'static str];
 
-    /// Range checks and what goes with what, once the section has been read.
-    fn validate(scene: &Scene, section: &Self::Section) -> Result<()>;
+    /// Range checks and what goes with what, once the raw tables have been read: the typed
+    /// scene, or the first failing key named.
+    fn config(scene: &Scene, raw: &Self::Raw) -> Result<Self::Config>;
+    /// The model's typed scene of `scene`: its tables read and checked. The one place a
+    /// model's scene is read: the runner reads it once, when it builds or restores a run.
+    fn read(scene: &Scene) -> Result<Self::Config> {
+        Self::config(scene, &scene.section()?)
+    }
     /// `fractum explain`: what the scene builds, without building it.
-    fn explain(scene: &Scene) -> Result<String>;
+    fn explain(scene: &Scene, cfg: &Self::Config) -> Result<String>;
 
     /// How many of the run's `threads` the step's parallel regions run on, as the run's worker
     /// team ([`crate::parallel::Team`], awake while the run advances); 1: on rayon or the
@@ -300,12 +295,16 @@ pub trait Model: Send + Sized {
         1
     }
 
-    /// Builds the model a scene describes (runs on the run's threads).
-    fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>>;
+    /// Builds the model a scene describes, from its typed scene (runs on the run's threads).
+    fn build(
+        scene: &Scene,
+        cfg: Self::Config,
+        progress: &mut (dyn FnMut(&str) + Send),
+    ) -> Result<Built<Self>>;
     /// The model's own persistent state, for a checkpoint.
     fn save(&self) -> Vec<u8>;
-    /// The model rebuilt from its scene and the bytes [`Model::save`] wrote.
-    fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self>;
+    /// The model rebuilt from its scene, its typed scene and the bytes [`Model::save`] wrote.
+    fn restore(scene: &Scene, cfg: Self::Config, bytes: &[u8]) -> Result<Self>;
 
     /// Number of bodies (particles, elements, polygons).
     fn bodies(&self) -> usize;
@@ -648,8 +647,9 @@ impl<M: Model> Runner<M> {
         threads: usize,
         progress: &mut (dyn FnMut(&str) + Send),
     ) -> Result<Self> {
+        let cfg = M::read(&scene)?;
         let threads = Threads::new(threads)?;
-        let built = threads.run(1, || M::build(&scene, progress))?;
+        let built = threads.run(1, || M::build(&scene, cfg, progress))?;
         Runner::start(scene, built, threads)
     }
 
@@ -721,8 +721,9 @@ impl<M: Model> Runner<M> {
                 M::KIND
             ))
         })?;
+        let cfg = M::read(&scene)?;
         let threads = Threads::new(threads)?;
-        let model = threads.run(1, || M::restore(&scene, &s.model))?;
+        let model = threads.run(1, || M::restore(&scene, cfg, &s.model))?;
         if let Some(i) = model.first_non_finite() {
             return Err(Error::run(format!(
                 "the saved {} state is inconsistent: {} {i} has a non-finite position or velocity",

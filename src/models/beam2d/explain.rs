@@ -12,8 +12,7 @@ use crate::scene::{IntegratorKind, Scene};
 use crate::state::polygons::Polygons;
 
 /// `fractum explain` for a beam2d scene: what it builds, without building the lattice.
-pub fn explain(scene: &Scene) -> Result<String> {
-    let cfg = Beam2dScene::read(scene)?;
+pub fn explain(scene: &Scene, cfg: &Beam2dScene) -> Result<String> {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -47,8 +46,7 @@ pub fn explain(scene: &Scene) -> Result<String> {
         "sample: vectorizable random lattice, spacing {spacing:e} m, disorder {:e} m, cut to {outline}, thickness {:e} m",
         p.disorder, p.thickness
     );
-    let pipeline =
-        PolygonPipeline::build(scene, &cfg, &Polygons::default(), &Beams::default(), 0.0);
+    let pipeline = PolygonPipeline::build(scene, cfg, &Polygons::default(), &Beams::default(), 0.0);
     write_pipeline(
         &mut s,
         scene,

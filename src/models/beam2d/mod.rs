@@ -451,23 +451,27 @@ pub fn averaged_power_law_interval(runs: &[&Beam2dRun]) -> Option<[f64; 2]> {
 
 impl Model for Beam2d {
     const KIND: &'static str = "beam2d";
-    type Section = scene::RawBeam2dScene;
+    type Raw = scene::RawBeam2dScene;
+    type Config = Beam2dScene;
     const BODY: &'static str = "polygon";
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
     const INTEGRATORS: &'static [IntegratorKind] =
         &[IntegratorKind::VelocityVerlet, IntegratorKind::Gear5];
     const SHARED_KEYS: &'static [&'static str] = &[];
 
-    fn validate(scene: &Scene, section: &scene::RawBeam2dScene) -> Result<()> {
-        scene::validate(scene, section).map(drop)
+    fn config(scene: &Scene, raw: &scene::RawBeam2dScene) -> Result<Beam2dScene> {
+        scene::validate(scene, raw)
     }
 
-    fn explain(scene: &Scene) -> Result<String> {
-        explain::explain(scene)
+    fn explain(scene: &Scene, cfg: &Beam2dScene) -> Result<String> {
+        explain::explain(scene, cfg)
     }
 
-    fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
-        let cfg = Beam2dScene::read(scene)?;
+    fn build(
+        scene: &Scene,
+        cfg: Beam2dScene,
+        progress: &mut (dyn FnMut(&str) + Send),
+    ) -> Result<Built<Self>> {
         let mut sample = lattice(scene, &cfg)?;
         progress(&format!(
             "{} polygons ({:.2} vertices on average), {} shared sides",
@@ -523,7 +527,7 @@ impl Model for Beam2d {
         }
         let warnings = Vec::new();
         let columns = loading.columns().to_vec();
-        crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
+        crate::run::check_planned_steps(scene, cfg.material.young, loading.end_time(), dt)?;
         let end_step = loading.end_step(dt);
         let end_time = loading.end_time();
         let state = Beam2dState {
@@ -563,10 +567,9 @@ impl Model for Beam2d {
         postcard::to_stdvec(&self.state).expect("the beam2d state serialises")
     }
 
-    fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self> {
+    fn restore(scene: &Scene, cfg: Beam2dScene, bytes: &[u8]) -> Result<Self> {
         let state: Beam2dState = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's beam2d state is damaged ({e})")))?;
-        let cfg = Beam2dScene::read(scene)?;
         Ok(Beam2d {
             pipeline: polygon_pipeline(scene, &cfg, &state),
             cfg,

@@ -8,10 +8,9 @@
 use serde::Deserialize;
 
 use crate::bond::beam2d::BreakingRule;
-use crate::error::Result;
 use crate::probe::fragments::{PowerLawFit, fit_power_law, fit_power_law_counted, mass_histogram};
 use crate::sample::lattice2d::LatticeShape;
-use crate::scene::{EffectKind, NeighborSpec, Scene};
+use crate::scene::{EffectKind, NeighborSpec};
 
 mod raw;
 pub(crate) use raw::SPEED_OF_LIGHT;
@@ -228,13 +227,6 @@ pub struct Beam2dScene {
     pub neighbor: NeighborSpec,
     /// The fragment mass histogram and its power-law fit.
     pub fragments: FragmentSpec,
-}
-
-impl Beam2dScene {
-    /// The beam2d tables of `scene`, read and checked (the first failing key named).
-    pub fn read(scene: &Scene) -> Result<Beam2dScene> {
-        validate(scene, &scene.section()?)
-    }
 }
 
 /// The effects of the beam2d model, in evaluation order.

@@ -9,8 +9,7 @@ use crate::error::Result;
 use crate::scene::{EffectKind, IntegratorKind, Scene};
 
 /// `fractum explain` for a dlsm scene: what it builds, without building the sample.
-pub fn explain(scene: &Scene) -> Result<String> {
-    let cfg = DlsmScene::read(scene)?;
+pub fn explain(scene: &Scene, cfg: &DlsmScene) -> Result<String> {
     let mut s = String::new();
     let p = &cfg.sample;
     let m = &cfg.material;
@@ -37,7 +36,7 @@ pub fn explain(scene: &Scene) -> Result<String> {
         "sample: {} of about {} elements, seeds by {method}{randomness}, domain {:?}",
         p.kind().as_str(),
         p.elements,
-        sample::domain(&cfg)
+        sample::domain(cfg)
     );
     let _ = writeln!(
         s,

@@ -418,7 +418,8 @@ impl Dlsm {
 
 impl Model for Dlsm {
     const KIND: &'static str = "dlsm";
-    type Section = scene::RawDlsmScene;
+    type Raw = scene::RawDlsmScene;
+    type Config = DlsmScene;
     const BODY: &'static str = "element";
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
     const INTEGRATORS: &'static [IntegratorKind] = &[
@@ -427,22 +428,25 @@ impl Model for Dlsm {
     ];
     const SHARED_KEYS: &'static [&'static str] = &["time.phi"];
 
-    fn validate(scene: &Scene, section: &scene::RawDlsmScene) -> Result<()> {
-        scene::validate(scene, section).map(drop)
+    fn config(scene: &Scene, raw: &scene::RawDlsmScene) -> Result<DlsmScene> {
+        scene::validate(scene, raw)
     }
 
-    fn explain(scene: &Scene) -> Result<String> {
-        explain::explain(scene)
+    fn explain(scene: &Scene, cfg: &DlsmScene) -> Result<String> {
+        explain::explain(scene, cfg)
     }
 
-    fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
-        let cfg = DlsmScene::read(scene)?;
+    fn build(
+        scene: &Scene,
+        cfg: DlsmScene,
+        progress: &mut (dyn FnMut(&str) + Send),
+    ) -> Result<Built<Self>> {
         let s = sample::build(scene, &cfg, progress)?;
         let (mut model, dt, warnings) = Dlsm::assemble(scene, cfg, s)?;
         model.check_step(scene, dt)?;
         let columns = model.state.loading.as_loading().columns();
         let end_time = model.state.loading.as_loading().end_time();
-        crate::run::check_planned_steps(scene, end_time, dt)?;
+        crate::run::check_planned_steps(scene, model.cfg.material.young, end_time, dt)?;
         let end = end_step(end_time, dt);
         let start = Clock {
             time: 0.0,
@@ -471,10 +475,9 @@ impl Model for Dlsm {
         postcard::to_stdvec(&self.state).expect("the dlsm state serialises")
     }
 
-    fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self> {
+    fn restore(scene: &Scene, cfg: DlsmScene, bytes: &[u8]) -> Result<Self> {
         let state: DlsmState = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's dlsm state is damaged ({e})")))?;
-        let cfg = DlsmScene::read(scene)?;
         let s = sample::build(scene, &cfg, &mut |_| {})?;
         let (mut model, _, _) = Dlsm::assemble(scene, cfg, s)?;
         if state.bodies.len() != model.state.bodies.len() {

@@ -7,8 +7,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::error::Result;
-use crate::scene::{EffectKind, Scene};
+use crate::scene::EffectKind;
 
 mod raw;
 
@@ -326,13 +325,6 @@ pub struct DlsmScene {
     pub material: Material,
     pub sample: SampleSpec,
     pub loading: LoadingSpec,
-}
-
-impl DlsmScene {
-    /// The dlsm tables of `scene`, read and checked (the first failing key named).
-    pub fn read(scene: &Scene) -> Result<DlsmScene> {
-        validate(scene, &scene.section()?)
-    }
 }
 
 /// The effects of the dlsm model.

@@ -5,10 +5,11 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use super::Simulation;
-use super::scene::{GranularScene, LoadingSpec};
+use super::scene::LoadingSpec;
 use crate::bench::Timed;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
+use crate::run::Model as _;
 use crate::sample::Sample;
 use crate::scene::Scene;
 
@@ -193,7 +194,7 @@ pub fn time_poly_ellipsoid_case(
 /// bodies at the end.
 pub fn time_shpb(path: &Path, overrides: &[String], threads: usize) -> Result<(f64, usize, usize)> {
     let scene = Scene::load(path, overrides)?;
-    let cfg = GranularScene::read(&scene)?;
+    let cfg = super::Granular::read(&scene)?;
     let end_strain = match cfg.loading {
         LoadingSpec::Oedometer { end_strain, .. } => end_strain,
         _ => 0.0,

@@ -11,9 +11,8 @@ use crate::scene::{EffectKind, Scene};
 
 /// A human-readable account of the scene: sample, force pipeline (and what is left out),
 /// loading, time step and outputs.
-pub fn explain(scene: &Scene) -> Result<String> {
-    let cfg = GranularScene::read(scene)?;
-    let pipeline = super::pipeline(scene, &cfg);
+pub fn explain(scene: &Scene, cfg: &GranularScene) -> Result<String> {
+    let pipeline = super::pipeline(scene, cfg);
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -24,7 +23,7 @@ pub fn explain(scene: &Scene) -> Result<String> {
         s,
         "model: granular, rigid grains (spheres, poly-ellipsoids) with Hertz–Mindlin contacts"
     );
-    let _ = writeln!(s, "sample: {}", describe_sample(&cfg));
+    let _ = writeln!(s, "sample: {}", describe_sample(cfg));
     write_pipeline(
         &mut s,
         scene,
@@ -33,7 +32,7 @@ pub fn explain(scene: &Scene) -> Result<String> {
         "bodies move freely",
     );
     if scene.has_effect(EffectKind::Fracture) {
-        let _ = writeln!(s, "after each step: {}", describe_fracture(scene, &cfg));
+        let _ = writeln!(s, "after each step: {}", describe_fracture(scene, cfg));
     }
     let _ = writeln!(s, "loading: {}", super::Loading::describe(&cfg.loading));
     let dt = if scene.has_effect(EffectKind::Fracture) {

@@ -293,7 +293,7 @@ impl Granular {
         let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
         let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson);
         let dt = scene.time.step(dt_rayleigh);
-        crate::run::check_planned_steps(scene, loading.end_time(), dt)?;
+        crate::run::check_planned_steps(scene, m.young, loading.end_time(), dt)?;
         let end = end_step(loading.end_time(), dt);
         let end_time = loading.end_time();
         let mut columns: Vec<&'static str> = if matches!(loading, Loading::Platens { .. }) {
@@ -771,22 +771,26 @@ fn axial_stress_column(series: &Series) -> Vec<f64> {
 
 impl Model for Granular {
     const KIND: &'static str = "granular";
-    type Section = scene::RawGranularScene;
+    type Raw = scene::RawGranularScene;
+    type Config = GranularScene;
     const BODY: &'static str = "body";
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
     const INTEGRATORS: &'static [IntegratorKind] = &[IntegratorKind::VelocityVerlet];
     const SHARED_KEYS: &'static [&'static str] = &["output.report_strains"];
 
-    fn validate(scene: &Scene, section: &scene::RawGranularScene) -> Result<()> {
-        scene::validate(scene, section).map(drop)
+    fn config(scene: &Scene, raw: &scene::RawGranularScene) -> Result<GranularScene> {
+        scene::validate(scene, raw)
     }
 
-    fn explain(scene: &Scene) -> Result<String> {
-        explain::explain(scene)
+    fn explain(scene: &Scene, cfg: &GranularScene) -> Result<String> {
+        explain::explain(scene, cfg)
     }
 
-    fn build(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Built<Self>> {
-        let cfg = GranularScene::read(scene)?;
+    fn build(
+        scene: &Scene,
+        cfg: GranularScene,
+        progress: &mut (dyn FnMut(&str) + Send),
+    ) -> Result<Built<Self>> {
         let sample = sample::build(scene, &cfg, progress)?;
         Granular::from_sample(scene, cfg, sample)
     }
@@ -796,14 +800,14 @@ impl Model for Granular {
             .expect("the granular state serialises")
     }
 
-    fn restore(scene: &Scene, bytes: &[u8]) -> Result<Self> {
+    fn restore(scene: &Scene, cfg: GranularScene, bytes: &[u8]) -> Result<Self> {
         type Saved = (GranularState, Vec<(String, Vec<u8>)>);
         let (state, effects): Saved = postcard::from_bytes(bytes)
             .map_err(|e| Error::run(format!("the checkpoint's granular state is damaged ({e})")))?;
         state.check_lengths().map_err(|why| {
             Error::run(format!("the saved granular state is inconsistent: {why}"))
         })?;
-        let mut model = Granular::with_state(scene, GranularScene::read(scene)?, state);
+        let mut model = Granular::with_state(scene, cfg, state);
         model.pipeline.restore(&effects, model.state.bodies.len())?;
         Ok(model)
     }
@@ -1056,7 +1060,7 @@ impl Faces for Granular {
 impl Runner<Granular> {
     /// A granular run on a sample made elsewhere (tests, benchmarks, exports).
     pub fn from_sample(scene: Scene, sample: Sample, threads: usize) -> Result<Self> {
-        let cfg = GranularScene::read(&scene)?;
+        let cfg = Granular::read(&scene)?;
         let built = Granular::from_sample(&scene, cfg, sample)?;
         Runner::from_built(scene, built, threads)
     }

@@ -10,6 +10,7 @@ use super::scene::{
     RandomSample, RandomShape, SampleKind, SingleGrain,
 };
 use crate::error::Result;
+use crate::run::Model as _;
 use crate::sample::{
     CompactionSpec, EllipsoidGrain, FractionSpec, JammedShort, JammedSpec, STREAM_ORIENTATIONS,
     STREAM_POSITIONS, STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box,
@@ -747,6 +748,6 @@ fn random_sample(
 
 /// The sample of a granular scene (its section read from the scene).
 pub fn from_scene(scene: &Scene, progress: &mut (dyn FnMut(&str) + Send)) -> Result<Sample> {
-    let cfg = GranularScene::read(scene)?;
+    let cfg = super::Granular::read(scene)?;
     build(scene, &cfg, progress)
 }

@@ -8,9 +8,8 @@
 
 use serde::Deserialize;
 
-use crate::error::Result;
 use crate::fracture::FractureSpec;
-use crate::scene::{EffectKind, NeighborSpec, Scene};
+use crate::scene::{EffectKind, NeighborSpec};
 
 mod raw;
 
@@ -360,13 +359,6 @@ pub struct GranularScene {
     /// Criteria, strength statistics, break planes and cohesion of breaking grains (used by
     /// the `fracture`, `weibull` and `cohesion` effects).
     pub fracture: FractureSpec,
-}
-
-impl GranularScene {
-    /// The granular tables of `scene`, read and checked (the first failing key named).
-    pub fn read(scene: &Scene) -> Result<GranularScene> {
-        validate(scene, &scene.section()?)
-    }
 }
 
 /// The effects of the granular model.

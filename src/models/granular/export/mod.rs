@@ -154,7 +154,7 @@ pub fn export(
             "--plugin applies to `fractum export lammps` only",
         ));
     }
-    let cfg = GranularScene::read(&scene)?;
+    let cfg = super::Granular::read(&scene)?;
     let sample = super::sample::build(&scene, &cfg, progress)?;
     let count = sample.bodies.len();
     let sim = Simulation::from_sample(scene, sample, 1)?;
