@@ -458,9 +458,26 @@ fn run(
     result?;
     let pvd: String = dir.indexes.iter().map(|i| format!(", {i}")).collect();
     say(&format!(
-        "{}: done; outputs in {} (series.csv, summary.json{pvd})",
+        "{}: done; outputs in {} (series.csv, summary.json{pvd}){}",
         sim.scene().name,
         out.display(),
+        peak_memory()
+            .map(|bytes| format!(
+                "; the process's peak memory {:.1} MB, {:.2} kB per body of the {} at the end",
+                bytes as f64 / 1e6,
+                bytes as f64 / 1e3 / sim.bodies().max(1) as f64,
+                sim.bodies()
+            ))
+            .unwrap_or_default(),
     ));
     Ok(())
+}
+
+/// The process's peak resident memory (bytes), where the system says it (Linux's
+/// /proc/self/status VmHWM); not in summary.json, which must repeat byte for byte.
+fn peak_memory() -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb * 1024)
 }
