@@ -29,7 +29,7 @@ pub const ECHO_LIMIT: usize = 200;
 const MESSAGE_LIMIT: usize = 4000;
 
 /// `message` with every run of more than [`ECHO_LIMIT`] non-blank characters cut to that many
-/// and "…", and the whole held to [`MESSAGE_LIMIT`] characters: error messages echo what they
+/// and "…", and the whole held to `MESSAGE_LIMIT` characters: error messages echo what they
 /// were given, and a 10 MB value came back whole on the terminal and through the C ABI.
 pub fn shorten(message: &str) -> String {
     if message.len() <= ECHO_LIMIT {

@@ -112,7 +112,7 @@ type Job = dyn Fn(usize) + Sync;
 
 /// A fixed team of threads that stays awake while a run advances: [`Team::run`] posts a job
 /// that the caller (member 0) runs and every member that comes in time joins. Members spin for
-/// the next job for [`SPIN`], then sleep; outside [`Team::awake_for`] they sleep at once.
+/// the next job for `SPIN`, then sleep; outside [`Team::awake_for`] they sleep at once.
 ///
 /// A job is a loop that claims parts of the work ([`on_team`]), so it is done whoever comes:
 /// the caller closes the job when its loop ends and waits only for the members that joined
@@ -512,7 +512,7 @@ const BLOCK: usize = 32;
 const TEAM_MIN_BODIES: usize = 256;
 
 /// `0..n` as parts for [`on_team`] when this thread has a team and there are at least
-/// [`TEAM_MIN_BODIES`] items: blocks of [`BLOCK`] consecutive items, dealt to the members in
+/// `TEAM_MIN_BODIES` items: blocks of `BLOCK` consecutive items, dealt to the members in
 /// turn (block k to member k mod size); `None` otherwise, when the caller runs the pass here,
 /// without building parts (nothing is allocated per step on one thread). Dealt blocks balance
 /// items of uneven cost (the pieces appended by splits cost twice an initial grain in the

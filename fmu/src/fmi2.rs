@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::FmuModel;
 
-/// An error: one sentence, logged as "<fmi2 function>: <sentence>".
+/// An error: one sentence, logged as `"<fmi2 function>: <sentence>"`.
 pub type Failure = String;
 
 /// What the FMI layer needs of a model (what Reference-FMUs put in each `model.c`). One

@@ -6,8 +6,8 @@
 const OMEGA_DT_LIMIT: f64 = 2.0;
 const OMEGA_DT_WARN: f64 = 1.6;
 
-/// What an estimated `ω dt` says of a step: above [`OMEGA_DT_LIMIT`] velocity Verlet is
-/// unstable (the run stops), above [`OMEGA_DT_WARN`] contacts are resolved by few steps (a
+/// What an estimated `ω dt` says of a step: above `OMEGA_DT_LIMIT` velocity Verlet is
+/// unstable (the run stops), above `OMEGA_DT_WARN` contacts are resolved by few steps (a
 /// warning); Fractum's run and the LAMMPS plugin (`fractum_kernel_step_check`) judge alike.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StepVerdict {

@@ -1,7 +1,7 @@
 //! The registry: the only place that names every model. It reads a scene's `model.kind`,
 //! checks the scene against that model's own section, and builds, restores and explains its
 //! runs. Adding a model means a folder beside these, its `pub mod` line and one entry in
-//! [`MODELS`].
+//! `MODELS`.
 
 pub mod beam2d;
 pub mod dlsm;

@@ -291,7 +291,7 @@ pub struct FractionSpec {
     /// Friction coefficient while compacting (0: none, as [`compact_to_fraction`] describes).
     pub friction: f64,
     /// The filling and the jamming pressure as fractions of E/(1 − ν²) (see
-    /// [`FILL_PRESSURE_PER_MODULUS`], [`JAM_PRESSURE_PER_MODULUS`], the defaults).
+    /// `FILL_PRESSURE_PER_MODULUS`, `JAM_PRESSURE_PER_MODULUS`, the defaults).
     pub pressures_per_modulus: (f64, f64),
     /// `false` (the default): the grains count as jammed short of the target size when,
     /// settled, they carry the filling pressure. `true`, for a search of where grains jam:

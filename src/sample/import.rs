@@ -103,7 +103,7 @@ const PLUGIN_SECTIONS: [[&str; 2]; 3] = [
 /// `xlo xhi` / `ylo yhi` / `zlo zhi` header lines. A file that also holds the Fractum plugin's
 /// shape, orientation and inertia sections (written by `fractum export lammps --plugin` or by
 /// LAMMPS's `write_data` in a plugin run, halves of split grains among them) gives its bodies
-/// as the plugin held them ([`Packing::bodies`]).
+/// as the plugin held them (`Packing::bodies`).
 pub fn read_lammps_data(path: &Path) -> Result<Packing, String> {
     let text = read(path)?;
     let lines: Vec<&str> = text.lines().collect();

@@ -81,7 +81,7 @@ pub struct GranularState {
     pub height0: f64,
     /// The Rayleigh critical step the first step derives from (s).
     pub dt_rayleigh: f64,
-    /// The largest `ω dt` seen after a step (see [`Granular::check_stability`]).
+    /// The largest `ω dt` seen after a step (see `Granular::check_stability`).
     pub max_omega_dt: f64,
     /// Times the step was shortened for breaking grains' pieces (see `adapt_time_step`).
     pub dt_shortened: u32,
@@ -817,7 +817,7 @@ impl Model for Granular {
     }
 
     /// Poly-ellipsoids (a Newton solve per pair): every thread. Spheres: one thread per
-    /// [`TEAM_MIN_SPHERES_PER_THREAD`], at most `threads`: a sphere pair costs tens of
+    /// `TEAM_MIN_SPHERES_PER_THREAD`, at most `threads`: a sphere pair costs tens of
     /// nanoseconds, and handing half the bodies to another core (whose cache then fetches the
     /// bodies the caller just moved) cost more than it saved (2-core CI machine, 1000 dense
     /// spheres: 0.92x of one thread on the team, 0.86x at 2000 with rayon). Before, a run
