@@ -37,10 +37,9 @@ The calibration, stated before any run was compared (docs/validation.md):
 - Method: a grid, evaluated at once (16 cores): sigma_c 200 and 400 MPa crossed with b 1 and
   2, and the centre (300 MPa, 1.5); the point of least J is the calibration. No point is
   added after the results are seen.
-- Seeds: 1, 2, 3 (`--seeds`). On a machine of two cores, where one jammed 3 mm sample takes
-  about a quarter of an hour to prepare, the grid was first evaluated with seed 1 alone
-  (`calibrate --seeds 1 --jobs 2`), decided before any point was run: the scatter between
-  seeds is then unknown, and the point chosen is provisional until the three seeds are run.
+- Seeds: 1, 2, 3 (`--seeds`); run with all three on 2026-12-01 (docs/validation.md). A
+  single seed (`--seeds 1`, as a first pass on two cores) leaves the scatter between seeds
+  unknown: its choice is provisional.
 """
 import argparse
 import csv
