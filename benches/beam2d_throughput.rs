@@ -61,7 +61,7 @@ fn accuracy_table() -> String {
             let Ok(mut run) = Beam2dRun::new(scene, 1, &mut |_| {}) else {
                 return "error: the run could not be set up".into();
             };
-            let e0 = run.polygons.kinetic_energy() + run.beam_energy();
+            let e0 = run.model.state.polygons.kinetic_energy() + run.model.beam_energy();
             let start = Instant::now();
             let ok = (|| {
                 while !run.finished() {
@@ -73,7 +73,9 @@ fn accuracy_table() -> String {
             let error = match ok {
                 Ok(()) => format!(
                     "{:.2e}",
-                    ((run.polygons.kinetic_energy() + run.beam_energy()) / e0 - 1.0).abs()
+                    ((run.model.state.polygons.kinetic_energy() + run.model.beam_energy()) / e0
+                        - 1.0)
+                        .abs()
                 ),
                 Err(_) => "unstable".into(),
             };

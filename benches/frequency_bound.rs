@@ -37,10 +37,10 @@ fn main() {
     println!("|---:|---:|---:|---:|---:|---:|---:|---:|---|");
     while !sim.finished() {
         sim.advance(2000).unwrap();
-        let Some(records) = sim.pipeline.records() else {
+        let Some(records) = sim.model.pipeline.records() else {
             continue;
         };
-        let b = &sim.bodies;
+        let b = &sim.model.state.bodies;
         let bound = records_max_frequency(&records.list, b, t);
         let (computed, at, lin) = records_highest_frequency(&records.list, b, t, 300);
         let shape = match &b.shape[at] {

@@ -165,7 +165,11 @@ fn fit_row(
     polygons: usize,
 ) -> Row {
     let n = group.len();
-    let unit = group.iter().map(|r| r.mean_polygon_mass).sum::<f64>() / n as f64;
+    let unit = group
+        .iter()
+        .map(|r| r.model.state.mean_polygon_mass)
+        .sum::<f64>()
+        / n as f64;
     let fit = averaged_power_law_by(group, spec, polygons);
     let interval = bootstrap_interval(group, 2000, 20, |draw| {
         let d: Vec<&Beam2dRun> = draw.iter().map(|r| **r).collect();
@@ -182,7 +186,7 @@ fn fit_row(
         range: fit.map_or([f64::NAN; 2], |f| f.range.map(|x| x / unit)),
         fragments: group
             .iter()
-            .map(|r| r.fragment_masses_from(polygons).len())
+            .map(|r| r.model.fragment_masses_from(polygons).len())
             .sum::<usize>() as f64
             / n as f64,
     }

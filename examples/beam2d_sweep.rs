@@ -93,7 +93,11 @@ fn main() {
                 .collect();
             let fit = averaged_power_law(&group);
             let n = group.len() as f64;
-            let unit = group.iter().map(|r| r.mean_polygon_mass).sum::<f64>() / n;
+            let unit = group
+                .iter()
+                .map(|r| r.model.state.mean_polygon_mass)
+                .sum::<f64>()
+                / n;
             let summaries: Vec<_> = group.iter().map(|r| r.summary()).collect();
             points.push(Point {
                 stem,
@@ -103,7 +107,7 @@ fn main() {
                 interval: averaged_power_law_interval(&group),
                 bins: fit.map_or(0, |f| f.bins),
                 range: fit.map_or([f64::NAN; 2], |f| f.range.map(|x| x / unit)),
-                fragments: group.iter().map(|r| r.fragments().1).sum::<usize>() as f64 / n,
+                fragments: group.iter().map(|r| r.model.fragments().1).sum::<usize>() as f64 / n,
                 largest: summaries
                     .iter()
                     .map(|s| s["largest_fragment_fraction"].as_f64().unwrap())
@@ -115,7 +119,7 @@ fn main() {
                     .count(),
                 masses: group
                     .iter()
-                    .flat_map(|r| r.multi_polygon_fragment_masses())
+                    .flat_map(|r| r.model.multi_polygon_fragment_masses())
                     .collect(),
                 unit,
             });

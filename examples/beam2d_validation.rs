@@ -302,14 +302,14 @@ fn compression() -> Plot {
             [(0.0, 0.0), (0.25, 0.4)],
             BLACK.mix(0.3),
         )))?;
-        let b = &r.beams;
+        let b = &r.model.state.beams;
         chart.draw_series(
             (0..b.len())
                 .filter(|&k| !b.intact[k] && b.broken_time[k] <= t)
                 .map(|k| {
                     let (ci, cj) = (
-                        start.polygons.centre(b.i[k] as usize),
-                        start.polygons.centre(b.j[k] as usize),
+                        start.model.state.polygons.centre(b.i[k] as usize),
+                        start.model.state.polygons.centre(b.j[k] as usize),
                     );
                     PathElement::new(vec![(ci.x, ci.y), (cj.x, cj.y)], RED.stroke_width(2))
                 }),
@@ -343,7 +343,7 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
         let fit = averaged_power_law(&refs);
         let per_seed: Vec<f64> = runs
             .iter()
-            .filter_map(|r| r.power_law().map(|f| f.exponent))
+            .filter_map(|r| r.model.power_law().map(|f| f.exponent))
             .collect();
         let mean = if per_seed.is_empty() {
             "-".to_string()
@@ -355,7 +355,8 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
                 runs.len()
             )
         };
-        let frags = runs.iter().map(|r| r.fragments().1).sum::<usize>() as f64 / runs.len() as f64;
+        let frags =
+            runs.iter().map(|r| r.model.fragments().1).sum::<usize>() as f64 / runs.len() as f64;
         let largest = runs
             .iter()
             .map(|r| r.summary()["largest_fragment_fraction"].as_f64().unwrap())
@@ -378,7 +379,7 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
         println!(
             "| {} | {} | {} | {} | {} | {:.3} | {:.3} | {:.1e} |",
             r.scene.seed,
-            r.polygons.len(),
+            r.model.state.polygons.len(),
             r.clock.step,
             s["broken_beams"],
             s["fragments"],
@@ -394,10 +395,14 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
         fit.exponent, fit.bins, fit.r_squared, fit.range
     );
     // The fit range's influence, on the same averaged histogram.
-    let unit = runs.iter().map(|r| r.mean_polygon_mass).sum::<f64>() / runs.len() as f64;
+    let unit = runs
+        .iter()
+        .map(|r| r.model.state.mean_polygon_mass)
+        .sum::<f64>()
+        / runs.len() as f64;
     let masses: Vec<f64> = runs
         .iter()
-        .flat_map(|r| r.multi_polygon_fragment_masses())
+        .flat_map(|r| r.model.multi_polygon_fragment_masses())
         .collect();
     let bins = mass_histogram(&masses, unit, 4, runs.len());
     print!("Fit range (mean polygon masses) -> beta:");
@@ -479,7 +484,7 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
     // The fragments of seed 1, coloured, where their polygons started (Fig. 1 and II).
     let r = &runs[0];
     let start = Beam2dRun::new(r.scene.clone(), 1, &mut |_| {}).unwrap();
-    let (labels, _) = r.fragments();
+    let (labels, _) = r.model.fragments();
     let mut sizes = vec![0usize; labels.len()];
     for &l in &labels {
         sizes[l as usize] += 1;
@@ -501,7 +506,7 @@ fn fragment_map(
     path: &Path,
     stem: &str,
 ) -> Plot {
-    let p = &start.polygons;
+    let p = &start.model.state.polygons;
     let (mut lo, mut hi) = (Vec2::repeat(f64::INFINITY), Vec2::repeat(f64::NEG_INFINITY));
     for i in 0..p.len() {
         lo = lo.inf(&p.centre(i));

@@ -469,7 +469,9 @@ fn main() {
                         lines.push((name.clone(), force_curve(&r)));
                         cracks.push((
                             name,
-                            r.break_log
+                            r.model
+                                .state
+                                .break_log
                                 .iter()
                                 .map(|(_, p)| (p.x, p.y))
                                 .collect::<Vec<_>>(),

@@ -44,7 +44,9 @@ fn head_on(effects: &str, e: f64, r: f64, v: f64) -> (f64, f64, f64) {
     fractum::scene::apply_override(&mut scene.tables, &format!("material.restitution={e:e}"))
         .unwrap();
     let mut sim = Simulation::from_sample(scene, common::sample(b, Walls::default()), 1).unwrap();
-    let overlap = |s: &Simulation| 2.0 * r - (s.bodies.pos[1] - s.bodies.pos[0]).norm();
+    let overlap = |s: &Simulation| {
+        2.0 * r - (s.model.state.bodies.pos[1] - s.model.state.bodies.pos[0]).norm()
+    };
     let (mut start, mut end, mut max_overlap) = (None, None, 0.0_f64);
     let mut prev = (sim.clock.time, overlap(&sim));
     while !sim.finished() {
@@ -62,7 +64,7 @@ fn head_on(effects: &str, e: f64, r: f64, v: f64) -> (f64, f64, f64) {
         prev = now;
     }
     let duration = end.expect("spheres separate") - start.expect("spheres touch");
-    (duration, max_overlap, -sim.bodies.vel[0].x)
+    (duration, max_overlap, -sim.model.state.bodies.vel[0].x)
 }
 
 #[test]
@@ -132,10 +134,10 @@ fn sliding_sphere_saturates_at_mu_n_then_rolls_at_five_sevenths() {
     let mut worst: f64 = 0.0;
     while sim.clock.time < 0.8 * t_roll {
         sim.advance(1).unwrap();
-        let f = sim.walls.face(BoxFace::ZMin).force;
+        let f = sim.model.state.walls.face(BoxFace::ZMin).force;
         let normal = -f.z;
         let tangential = (f.x * f.x + f.y * f.y).sqrt();
-        let slip = sim.bodies.vel[0].x - r * sim.bodies.omega[0].y;
+        let slip = sim.model.state.bodies.vel[0].x - r * sim.model.state.bodies.omega[0].y;
         if slip > 1e-3 {
             worst = worst.max((tangential / (mu * normal) - 1.0).abs());
             saturated += 1;
@@ -150,12 +152,12 @@ fn sliding_sphere_saturates_at_mu_n_then_rolls_at_five_sevenths() {
         "|F_t| / (mu F_n) - 1 reached {worst:e} while sliding"
     );
     sim.advance(u64::MAX).unwrap();
-    let v_end = sim.bodies.vel[0].x;
+    let v_end = sim.model.state.bodies.vel[0].x;
     assert!(
         (v_end / (5.0 / 7.0 * v0) - 1.0).abs() < 0.01,
         "rolling speed {v_end}, theory {}",
         5.0 / 7.0 * v0
     );
-    let rolling = sim.bodies.omega[0].y * r;
+    let rolling = sim.model.state.bodies.omega[0].y * r;
     assert!((rolling / v_end - 1.0).abs() < 0.01, "rolls without slip");
 }

@@ -323,7 +323,7 @@ fn brazilian_test_under_a_uniform_20_degree_arc_pressure() {
     // The support of the free motions carries little: 0.26% of P R at the peak.
     assert!(get(&s, "held_moment_ratio") < 0.01, "{s}");
     let offset = |k: usize| {
-        let p = run.break_log[k].1;
+        let p = run.model.state.break_log[k].1;
         p.x.hypot(p.y) / 0.2
     };
     assert_eq!(get(&s, "crack_start_offset"), offset(0));

@@ -58,8 +58,8 @@ fn pressed(dirs: &[Vec3], f: f64, a: f64) -> ContactRecords {
 
 fn check(sim: &Simulation, records: &ContactRecords) -> Vec<fractum::fracture::Breaking> {
     let forces = Forces::new(1);
-    let mut fracture = sim.fracture.clone().unwrap();
-    fracture.check(&sim.bodies, &forces, records)
+    let mut fracture = sim.model.state.fracture.clone().unwrap();
+    fracture.check(&sim.model.state.bodies, &forces, records)
 }
 
 /// The contact radius at which force `f` gives the contact tensile stress `st` (Eq. 17).
@@ -143,10 +143,10 @@ fn sphere_under_equal_loads_breaks_by_contacts_not_hoek_brown() {
 
 /// Angular acceleration of body k in the world frame, `I⁻¹ (T − ω × I ω)`.
 fn angular_acceleration(sim: &Simulation, k: usize) -> Vec3 {
-    let b = &sim.bodies;
+    let b = &sim.model.state.bodies;
     let q = b.orientation[k];
     let w = q.inverse_transform_vector(&b.omega[k]);
-    let t = q.inverse_transform_vector(&sim.forces.torque[k]);
+    let t = q.inverse_transform_vector(&sim.model.state.forces.torque[k]);
     let i = b.inertia[k];
     q * (t - w.cross(&w.component_mul(&i))).component_div(&i)
 }
@@ -189,25 +189,28 @@ fn split_conserves_mass_and_halves_accelerate_as_the_parent() {
         b.omega[0] = q * omega;
         let mut sim =
             Simulation::from_sample(scene.clone(), common::sample(b, Walls::default()), 1).unwrap();
-        let (x_p, w) = (sim.bodies.pos[0], sim.bodies.omega[0]);
-        let a_p = sim.forces.force[0] / mass;
+        let (x_p, w) = (
+            sim.model.state.bodies.pos[0],
+            sim.model.state.bodies.omega[0],
+        );
+        let a_p = sim.model.state.forces.force[0] / mass;
         assert!((a_p - Vec3::new(0.0, 0.0, -9.81)).norm() < 1e-12);
         let alpha_p = angular_acceleration(&sim, 0);
         // Break along the grain's x axis (a Hoek–Brown stress most tensile along it).
-        let x = sim.bodies.shape_placement(0).1 * Vec3::x();
+        let x = sim.model.state.bodies.shape_placement(0).1 * Vec3::x();
         let stress = x * x.transpose() * 1e8;
         let made =
             sim.break_grains(&[(0, Trigger::HoekBrown { stress }, Criterion::HoekBrown, 0.0)]);
         assert_eq!(made, 1);
-        let b = &sim.bodies;
+        let b = &sim.model.state.bodies;
         assert_eq!(b.len(), 2);
         assert!(((b.mass[0] + b.mass[1]) / mass - 1.0).abs() < 1e-12);
-        let f = sim.fracture.as_ref().unwrap();
+        let f = sim.model.state.fracture.as_ref().unwrap();
         assert!(f.springs.len() >= 3, "springs {}", f.springs.len());
         for k in 0..2 {
             let r = b.pos[k] - x_p;
             let want = a_p + alpha_p.cross(&r) + w.cross(&w.cross(&r));
-            let got = sim.forces.force[k] / b.mass[k];
+            let got = sim.model.state.forces.force[k] / b.mass[k];
             assert!(
                 (got - want).norm() < 1e-9 * want.norm(),
                 "half {k}: a = {got}, parent field {want}"
@@ -264,25 +267,25 @@ fn breaking_a_spring_injects_no_energy() {
     let stored = spring.stored_energy();
     assert!((stored / (gc * area) - 1.0).abs() < 1e-12);
     {
-        let f = sim.fracture.as_mut().unwrap();
+        let f = sim.model.state.fracture.as_mut().unwrap();
         f.springs.push(spring);
         f.bonds[0] = 1;
         f.bonds[1] = 1;
     }
-    sim.forces.force[0] += Vec3::x() * f0;
-    sim.forces.force[1] -= Vec3::x() * f0;
+    sim.model.state.forces.force[0] += Vec3::x() * f0;
+    sim.model.state.forces.force[1] -= Vec3::x() * f0;
     // The halves fly apart with twice the energy the spring holds.
-    let v = (2.0 * stored / (2.0 * sim.bodies.mass[0])).sqrt() * 2f64.sqrt();
-    sim.bodies.vel[0] = Vec3::new(-v, 0.0, 0.0);
-    sim.bodies.vel[1] = Vec3::new(v, 0.0, 0.0);
-    let k0 = sim.bodies.kinetic_energy();
+    let v = (2.0 * stored / (2.0 * sim.model.state.bodies.mass[0])).sqrt() * 2f64.sqrt();
+    sim.model.state.bodies.vel[0] = Vec3::new(-v, 0.0, 0.0);
+    sim.model.state.bodies.vel[1] = Vec3::new(v, 0.0, 0.0);
+    let k0 = sim.model.state.bodies.kinetic_energy();
     assert!((k0 / (2.0 * stored) - 1.0).abs() < 1e-12);
     let mut last = k0;
     let mut jump = None;
     for _ in 0..5000 {
         sim.advance(1).unwrap();
-        let k = sim.bodies.kinetic_energy();
-        if jump.is_none() && sim.fracture.as_ref().unwrap().springs[0].broken {
+        let k = sim.model.state.bodies.kinetic_energy();
+        if jump.is_none() && sim.model.state.fracture.as_ref().unwrap().springs[0].broken {
             jump = Some(k - last);
         }
         last = k;
@@ -290,7 +293,7 @@ fn breaking_a_spring_injects_no_energy() {
     let jump = jump.expect("the spring broke");
     println!(
         "break step: ΔK = {jump:e} J, stored {stored:e} J; spent {:e}",
-        k0 - sim.bodies.kinetic_energy()
+        k0 - sim.model.state.bodies.kinetic_energy()
     );
     assert!(
         jump.abs() < 0.01 * stored,
@@ -298,12 +301,12 @@ fn breaking_a_spring_injects_no_energy() {
         100.0 * jump.abs() / stored
     );
     // The energy spent in fracture is G_c A (Eq. 36), taken from the halves' motion.
-    let spent = k0 - sim.bodies.kinetic_energy();
+    let spent = k0 - sim.model.state.bodies.kinetic_energy();
     assert!(
         (spent / stored - 1.0).abs() < 0.01,
         "spent {spent:e} J of {stored:e} J"
     );
-    let work = sim.fracture.as_ref().unwrap().spring_work;
+    let work = sim.model.state.fracture.as_ref().unwrap().spring_work;
     assert!(
         (-work / stored - 1.0).abs() < 0.01,
         "spring work {work:e} J"

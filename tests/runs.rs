@@ -203,12 +203,12 @@ fn scene_without_friction_never_builds_the_tangential_model() {
         "no Mindlin model constructed"
     );
     assert_eq!(
-        sim.pipeline.history_len(),
+        sim.model.pipeline.history_len(),
         0,
         "no contact history allocated"
     );
-    assert!(sim.pipeline.contacts() > 0, "contacts are active");
-    assert!(!sim.pipeline.describe().join(" ").contains("Mindlin"));
+    assert!(sim.model.pipeline.contacts() > 0, "contacts are active");
+    assert!(!sim.model.pipeline.describe().join(" ").contains("Mindlin"));
     // The same scene with friction builds exactly one.
     let text = common::small_oedometer(200, "\"contact\", \"damping\", \"friction\"", 0.005);
     let scene = fractum::Scene::from_toml(&text, "t", Path::new("."), &[]).unwrap();
@@ -218,7 +218,7 @@ fn scene_without_friction_never_builds_the_tangential_model() {
         fractum::contact::hertz_mindlin::mindlin_models_built(),
         before + 1
     );
-    assert!(sim.pipeline.history_len() > 0);
+    assert!(sim.model.pipeline.history_len() > 0);
 }
 
 #[test]

@@ -34,9 +34,12 @@ fn frequency_estimate_is_exact_for_two_equal_spheres() {
     // Normal mode of two equal masses on the contact's tangent stiffness k = 2 E* sqrt(R* δ):
     // ω² = k / m* with m* = m / 2.
     let k = 2.0 * e_eff * (0.5 * r * delta).sqrt();
-    let m_eff = 0.5 * sim.bodies.mass[0];
+    let m_eff = 0.5 * sim.model.state.bodies.mass[0];
     let omega = (k / m_eff).sqrt();
-    let estimate = sim.pipeline.max_frequency(&sim.bodies, &sim.walls);
+    let estimate = sim
+        .model
+        .pipeline
+        .max_frequency(&sim.model.state.bodies, &sim.model.state.walls);
     assert!(
         (estimate / omega - 1.0).abs() < 1e-9,
         "{estimate} vs {omega}"

@@ -51,12 +51,15 @@ fn a_granular_step_with_fracture_allocates_nothing_on_one_thread() {
     let mut sim = Simulation::new(scene, 1, &mut |_| {}).unwrap();
     // Past the first steps (the first neighbour build, the first grains that break).
     sim.advance(6000).unwrap();
-    let bodies = sim.bodies.len();
-    let broken = sim.broken_particles();
+    let bodies = sim.model.state.bodies.len();
+    let broken = sim.model.broken_particles();
     let before = ALLOCATIONS.load(Ordering::Relaxed);
     sim.advance(1000).unwrap();
     let allocations = ALLOCATIONS.load(Ordering::Relaxed) - before;
     assert_eq!(sim.step(), 7000);
-    assert_eq!((sim.bodies.len(), sim.broken_particles()), (bodies, broken));
+    assert_eq!(
+        (sim.model.state.bodies.len(), sim.model.broken_particles()),
+        (bodies, broken)
+    );
     assert_eq!(allocations, 0, "{allocations} allocations in 1000 steps");
 }

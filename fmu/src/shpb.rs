@@ -116,14 +116,14 @@ struct Sample {
 
 impl Sample {
     fn of(sim: &Simulation) -> Sample {
-        let (top, bottom) = sim.face_stresses();
+        let (top, bottom) = sim.model.face_stresses();
         Sample {
             time: sim.clock.time,
             top,
             bottom,
-            strain: sim.axial_strain(),
-            kinetic: sim.bodies.kinetic_energy(),
-            broken: sim.broken_particles(),
+            strain: sim.model.axial_strain(),
+            kinetic: sim.model.state.bodies.kinetic_energy(),
+            broken: sim.model.broken_particles(),
         }
     }
 
@@ -279,7 +279,7 @@ impl Model for Shpb {
     }
 
     fn built(&self) -> String {
-        let n = self.sim.as_ref().map_or(0, |s| s.bodies.len());
+        let n = self.sim.as_ref().map_or(0, |s| s.model.state.bodies.len());
         format!("specimen built: {n} grains")
     }
 
@@ -304,7 +304,7 @@ impl Model for Shpb {
                 }
                 vr::STRAIN => self.out.strain,
                 vr::KINETIC_ENERGY => self.out.kinetic,
-                vr::SPECIMEN_LENGTH => self.sim.as_ref().map_or(0.0, |s| s.initial_height()),
+                vr::SPECIMEN_LENGTH => self.sim.as_ref().map_or(0.0, |s| s.model.initial_height()),
                 _ => return Err(format!("{r} is not the value reference of a Real variable")),
             })
     }

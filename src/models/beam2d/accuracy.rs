@@ -108,7 +108,11 @@ pub fn cases() -> Vec<Case> {
                 let fit = averaged_power_law(&refs).ok_or_else(|| {
                     Error::run("no power-law fit: too few fragments of two or more polygons")
                 })?;
-                let polygons = runs.iter().map(|r| r.polygons.len()).sum::<usize>() / runs.len();
+                let polygons = runs
+                    .iter()
+                    .map(|r| r.model.state.polygons.len())
+                    .sum::<usize>()
+                    / runs.len();
                 Ok(Measured {
                     elements: polygons,
                     runs: runs.len(),

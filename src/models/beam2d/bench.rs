@@ -20,7 +20,7 @@ pub fn time_beam2d_scene(path: &Path, overrides: &[String], threads: usize) -> R
     }
     Ok(Timed {
         case: name,
-        bodies: run.polygons.len(),
+        bodies: run.model.state.polygons.len(),
         contacts: None,
         threads,
         steps: run.clock.step,

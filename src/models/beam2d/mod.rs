@@ -99,19 +99,6 @@ pub struct Beam2dState {
     start: Option<StartState>,
 }
 
-impl std::ops::Deref for Beam2d {
-    type Target = Beam2dState;
-    fn deref(&self) -> &Beam2dState {
-        &self.state
-    }
-}
-
-impl std::ops::DerefMut for Beam2d {
-    fn deref_mut(&mut self) -> &mut Beam2dState {
-        &mut self.state
-    }
-}
-
 /// Fragment labels over the intact beams, and their number.
 fn fragments(polygons: &Polygons, b: &Beams) -> (Vec<u32>, usize) {
     components(
@@ -261,7 +248,7 @@ impl Beam2d {
 
     /// Elastic energy (J) stored in the intact beams.
     pub fn beam_energy(&self) -> f64 {
-        let (b, p) = (&self.beams, &self.polygons);
+        let (b, p) = (&self.state.beams, &self.state.polygons);
         (0..b.len())
             .filter(|&k| b.intact[k])
             .map(|k| {
@@ -274,13 +261,13 @@ impl Beam2d {
 
     /// Fragment labels over the intact beams, and their number.
     pub fn fragments(&self) -> (Vec<u32>, usize) {
-        fragments(&self.polygons, &self.beams)
+        fragments(&self.state.polygons, &self.state.beams)
     }
 
     /// Fragment masses (kg) and polygon counts, in label order.
     fn fragment_masses(&self) -> (Vec<u32>, Vec<f64>, Vec<usize>) {
         let (labels, count) = self.fragments();
-        let masses = sum_by_component(&labels, count, &self.polygons.mass);
+        let masses = sum_by_component(&labels, count, &self.state.polygons.mass);
         let mut sizes = vec![0usize; count];
         for &l in &labels {
             sizes[l as usize] += 1;
@@ -292,7 +279,9 @@ impl Beam2d {
     /// polygons are left out, as in the paper's Fig. 11).
     pub fn power_law(&self) -> Option<PowerLawFit> {
         let masses = self.multi_polygon_fragment_masses();
-        self.cfg.fragments.fit(&masses, self.mean_polygon_mass, 1)
+        self.cfg
+            .fragments
+            .fit(&masses, self.state.mean_polygon_mass, 1)
     }
 
     /// Masses (kg) of the fragments of two or more polygons: what the histogram is made of.
@@ -314,7 +303,7 @@ impl Beam2d {
     /// Fraction of the broken beams (up to `until`, s) that lay within 30° of the x axis at
     /// rest: perpendicular to the load of the compression tests.
     pub fn broken_lateral_fraction(&self, until: f64) -> Option<f64> {
-        let b = &self.beams;
+        let b = &self.state.beams;
         let broken: Vec<usize> = (0..b.len())
             .filter(|&k| !b.intact[k] && b.broken_time[k] <= until)
             .collect();
@@ -338,19 +327,19 @@ impl Beam2d {
         m.insert("beta_fit_range".into(), json!(fit.map(|f| f.range)));
         m.insert(
             "beta_fit_range_polygon_masses".into(),
-            json!(fit.map(|f| f.range.map(|x| x / self.mean_polygon_mass))),
+            json!(fit.map(|f| f.range.map(|x| x / self.state.mean_polygon_mass))),
         );
         m.insert("beta_fit_bins".into(), json!(fit.map(|f| f.bins)));
         m.insert("beta_r_squared".into(), json!(fit.map(|f| f.r_squared)));
         m.insert("largest_fragment_fraction".into(), (largest / total).into());
         m.insert(
             "momentum_drift_relative".into(),
-            self.max_momentum_drift.into(),
+            self.state.max_momentum_drift.into(),
         );
-        let quiet = self.loading.quiet_steps().unwrap_or(u64::MAX);
+        let quiet = self.state.loading.quiet_steps().unwrap_or(u64::MAX);
         m.insert(
             "stopped_by".into(),
-            if self.steps_since_break >= quiet {
+            if self.state.steps_since_break >= quiet {
                 format!("{quiet} steps without a break")
             } else {
                 "loading.end_time".to_string()
@@ -361,7 +350,7 @@ impl Beam2d {
             explosive_mass,
             kicked,
             ..
-        } = &self.loading
+        } = &self.state.loading
         {
             m.insert("explosive_mass".into(), (*explosive_mass).into());
             m.insert("kicked_polygons".into(), (*kicked).into());
@@ -374,9 +363,9 @@ impl Beam2d {
         let n = masses.len();
         let (mut centre, mut momentum) = (vec![Vec2::zeros(); n], vec![Vec2::zeros(); n]);
         for (i, &l) in labels.iter().enumerate() {
-            let m = self.polygons.mass[i];
-            centre[l as usize] += self.polygons.centre(i) * m;
-            momentum[l as usize] += self.polygons.velocity(i) * m;
+            let m = self.state.polygons.mass[i];
+            centre[l as usize] += self.state.polygons.centre(i) * m;
+            momentum[l as usize] += self.state.polygons.velocity(i) * m;
         }
         let mut s = String::from("fragment,polygons,mass,x,y,vx,vy\n");
         for k in 0..n {
@@ -395,7 +384,7 @@ impl Beam2d {
         let f = &self.cfg.fragments;
         let bins = mass_histogram(
             &self.multi_polygon_fragment_masses(),
-            self.mean_polygon_mass,
+            self.state.mean_polygon_mass,
             f.bins_per_decade,
             1,
         );
@@ -420,7 +409,7 @@ impl Beam2d {
 /// of the runs' mean polygon mass, per run; fitted by the first run's `fragments` rule.
 pub fn averaged_power_law(runs: &[&Beam2dRun]) -> Option<PowerLawFit> {
     let first = runs.first()?;
-    averaged_power_law_by(runs, &first.cfg.fragments, 2)
+    averaged_power_law_by(runs, &first.model.cfg.fragments, 2)
 }
 
 /// [`averaged_power_law`] by another fit rule `spec`, over the fragments of at least
@@ -433,10 +422,14 @@ pub fn averaged_power_law_by(
     if runs.is_empty() {
         return None;
     }
-    let unit = runs.iter().map(|r| r.mean_polygon_mass).sum::<f64>() / runs.len() as f64;
+    let unit = runs
+        .iter()
+        .map(|r| r.model.state.mean_polygon_mass)
+        .sum::<f64>()
+        / runs.len() as f64;
     let masses: Vec<f64> = runs
         .iter()
-        .flat_map(|r| r.fragment_masses_from(polygons))
+        .flat_map(|r| r.model.fragment_masses_from(polygons))
         .collect();
     spec.fit(&masses, unit, runs.len())
 }
@@ -697,28 +690,31 @@ impl Model for Beam2d {
             "integrator".into(),
             run.scene.time.integrator.as_str().into(),
         );
-        m.insert("dt_critical".into(), self.dt_critical.into());
+        m.insert("dt_critical".into(), self.state.dt_critical.into());
         m.insert(
             "sample".into(),
-            serde_json::to_value(&self.info).expect("info serialises"),
+            serde_json::to_value(&self.state.info).expect("info serialises"),
         );
-        m.insert("polygons".into(), self.polygons.len().into());
-        m.insert("mean_polygon_mass".into(), self.mean_polygon_mass.into());
-        m.insert("beams".into(), self.beams.len().into());
-        m.insert("broken_beams".into(), self.beams.broken().into());
-        m.insert("contacts_final".into(), self.contacts.into());
+        m.insert("polygons".into(), self.state.polygons.len().into());
+        m.insert(
+            "mean_polygon_mass".into(),
+            self.state.mean_polygon_mass.into(),
+        );
+        m.insert("beams".into(), self.state.beams.len().into());
+        m.insert("broken_beams".into(), self.state.beams.broken().into());
+        m.insert("contacts_final".into(), self.state.contacts.into());
         m.insert(
             "kinetic_energy_initial".into(),
-            self.initial_kinetic_energy.into(),
+            self.state.initial_kinetic_energy.into(),
         );
         m.insert(
             "kinetic_energy_final".into(),
-            self.polygons.kinetic_energy().into(),
+            self.state.polygons.kinetic_energy().into(),
         );
-        self.loading.summarize(run.series, m);
-        match &self.loading {
+        self.state.loading.summarize(run.series, m);
+        match &self.state.loading {
             Beam2dLoading::ConfinedCompression(_) => {
-                let all = &self.beams.rest_direction;
+                let all = &self.state.beams.rest_direction;
                 let baseline = all.iter().filter(|d| d.y.abs() <= 0.5).count() as f64
                     / all.len().max(1) as f64;
                 m.insert("beams_lateral_fraction".into(), baseline.into());
@@ -742,10 +738,16 @@ impl Model for Beam2d {
 
     fn snapshot(&self) -> Vec<(&'static str, String)> {
         let (labels, _) = self.fragments();
-        let mut files = vec![("polygons", polygons_vtu(&self.polygons, &labels))];
-        if !self.beams.is_empty() {
-            files.push(("beams", beams_vtu(&self.polygons, &self.beams, false)));
-            files.push(("broken_beams", beams_vtu(&self.polygons, &self.beams, true)));
+        let mut files = vec![("polygons", polygons_vtu(&self.state.polygons, &labels))];
+        if !self.state.beams.is_empty() {
+            files.push((
+                "beams",
+                beams_vtu(&self.state.polygons, &self.state.beams, false),
+            ));
+            files.push((
+                "broken_beams",
+                beams_vtu(&self.state.polygons, &self.state.beams, true),
+            ));
         }
         files
     }
@@ -764,7 +766,7 @@ impl Model for Beam2d {
         format!(
             "t = {:.4e} s, {} beams broken",
             clock.time,
-            self.beams.broken()
+            self.state.beams.broken()
         )
     }
 

@@ -110,7 +110,7 @@ pub fn cases() -> Vec<Case> {
             },
             measure: Box::new(|s, threads, _| {
                 let (run, summary) = run(TENSILE, "scenes/dlsm_tensile.toml", s, &[], threads)?;
-                let m = &run.cfg.material;
+                let m = &run.model.cfg.material;
                 measured(
                     &summary,
                     vec![

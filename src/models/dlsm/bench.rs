@@ -51,7 +51,7 @@ pub fn run(elements: &[usize], threads: &[usize], steps: u64) -> Result<Vec<Time
         for &t in threads {
             let mut run = DlsmRun::new(scene.clone(), t, &mut |_| {})?;
             // A small random shake so that the lattice is strained and moving.
-            for (k, v) in run.bodies.vel.iter_mut().enumerate() {
+            for (k, v) in run.model.state.bodies.vel.iter_mut().enumerate() {
                 *v = crate::state::Vec3::new(
                     ((k * 7919) % 101) as f64 - 50.0,
                     ((k * 104729) % 103) as f64 - 51.0,
@@ -63,8 +63,8 @@ pub fn run(elements: &[usize], threads: &[usize], steps: u64) -> Result<Vec<Time
             run.advance(steps)?;
             cases.push(Timed {
                 case: format!("lattice of {n} elements"),
-                bodies: run.bodies.len(),
-                contacts: Some(run.bonds.contacts()),
+                bodies: run.model.state.bodies.len(),
+                contacts: Some(run.model.bonds.contacts()),
                 threads: t,
                 steps,
                 seconds: start.elapsed().as_secs_f64(),

@@ -111,19 +111,6 @@ pub struct DlsmState {
     pub stopped: bool,
 }
 
-impl std::ops::Deref for Dlsm {
-    type Target = DlsmState;
-    fn deref(&self) -> &DlsmState {
-        &self.state
-    }
-}
-
-impl std::ops::DerefMut for Dlsm {
-    fn deref_mut(&mut self) -> &mut DlsmState {
-        &mut self.state
-    }
-}
-
 impl Dlsm {
     /// The model on a freshly built sample, at t = 0 with nothing broken, and its step.
     fn assemble(scene: &Scene, cfg: DlsmScene, s: DlsmSample) -> Result<(Self, f64, Vec<String>)> {

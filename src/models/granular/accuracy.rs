@@ -77,7 +77,9 @@ pub fn impact(effects: &str, dt: f64, threads: usize) -> Result<(Option<f64>, f6
     };
     let end = 3.0 * hertz_contact_time();
     let mut sim = Simulation::from_sample(impact_scene(effects, dt, end)?, sample, threads)?;
-    let gap = |s: &Simulation| (s.bodies.pos[1] - s.bodies.pos[0]).norm() - 2.0 * R;
+    let gap = |s: &Simulation| {
+        (s.model.state.bodies.pos[1] - s.model.state.bodies.pos[0]).norm() - 2.0 * R
+    };
     let mut prev = (0.0, gap(&sim));
     let mut parted = None;
     while !sim.finished() && parted.is_none() {
@@ -88,7 +90,7 @@ pub fn impact(effects: &str, dt: f64, threads: usize) -> Result<(Option<f64>, f6
         }
         prev = now;
     }
-    Ok((parted, -sim.bodies.vel[0].x / V))
+    Ok((parted, -sim.model.state.bodies.vel[0].x / V))
 }
 
 fn one(elements: usize, quantities: Vec<Quantity>) -> Measured {

@@ -120,8 +120,8 @@ fn time_sample(scene: Scene, sample: &Sample, threads: usize, steps: u64) -> Res
     let seconds = start.elapsed().as_secs_f64();
     Ok(Timed {
         case: scene_name,
-        bodies: sim.bodies.len(),
-        contacts: Some(sim.pipeline.contacts()),
+        bodies: sim.model.state.bodies.len(),
+        contacts: Some(sim.model.pipeline.contacts()),
         threads,
         steps,
         seconds,
@@ -200,11 +200,15 @@ pub fn time_shpb(path: &Path, overrides: &[String], threads: usize) -> Result<(f
         _ => 0.0,
     };
     let mut sim = Simulation::new(scene, threads, &mut |_| {})?;
-    let grains = sim.bodies.len();
+    let grains = sim.model.state.bodies.len();
     let start = Instant::now();
     while !sim.finished() {
         sim.advance(1000)?;
     }
     let seconds = start.elapsed().as_secs_f64();
-    Ok((seconds / (100.0 * end_strain), grains, sim.bodies.len()))
+    Ok((
+        seconds / (100.0 * end_strain),
+        grains,
+        sim.model.state.bodies.len(),
+    ))
 }

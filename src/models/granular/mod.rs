@@ -174,19 +174,6 @@ impl GranularState {
     }
 }
 
-impl std::ops::Deref for Granular {
-    type Target = GranularState;
-    fn deref(&self) -> &GranularState {
-        &self.state
-    }
-}
-
-impl std::ops::DerefMut for Granular {
-    fn deref_mut(&mut self) -> &mut GranularState {
-        &mut self.state
-    }
-}
-
 /// The value of `ys` at `x` by linear interpolation along the increasing `xs`; `None` outside.
 fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
     let k = xs.iter().position(|&v| v >= x)?;
