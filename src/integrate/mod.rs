@@ -1,6 +1,7 @@
 //! Time integration and the critical time step.
 
 mod stability;
+mod step_control;
 mod tchamwa_wielgosz;
 pub mod velocity_verlet;
 // beam2d: Gear's predictor-corrector and velocity Verlet on flat arrays of degrees of freedom.
@@ -8,6 +9,7 @@ pub mod gear5;
 
 pub use gear5::Gear5;
 pub use stability::{StepVerdict, adapted_step, step_verdict};
+pub use step_control::StepControl;
 pub use tchamwa_wielgosz::TchamwaWielgosz;
 pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drift_dofs};
 

@@ -10,8 +10,9 @@
 //! advance:   while step < target and the model has not stopped:
 //!              model.step(clock, dt)          the physics of one step
 //!              clock: step + 1, time + dt
-//!              model.after_step(clock)        e.g. granular fracture, which may shorten dt
-//!              finite? -> model.fault -> model.check_step (stability, step adaptation)
+//!              model.after_step(clock)        e.g. granular fracture; may ask for a new dt
+//!              finite? -> model.fault -> model.check_step (stability; may ask for a new dt)
+//!              a new dt asked for: clock.set_dt (the runner alone writes the clock)
 //!              at output steps (every `output.every`, the last, and those the model asks):
 //!                series row -> model.after_row
 //! ```

@@ -101,9 +101,12 @@ pub trait Model: Send + Sized {
     fn bodies(&self) -> usize;
     /// One step of `dt` from `clock` (the clock is advanced by the runner afterwards).
     fn step(&mut self, clock: &Clock, dt: f64);
-    /// After the clock has moved: work that needs the new time and may change the step or
-    /// the end (granular fracture).
-    fn after_step(&mut self, _clock: &mut Clock, _dt: f64) {}
+    /// After the clock has moved: work that needs the new time (granular fracture). Returns
+    /// the step (s) to take from now on when it must change (pieces stiffer than the step),
+    /// which the runner writes into its clock; `None`: keep it.
+    fn after_step(&mut self, _clock: &Clock, _dt: f64) -> Option<f64> {
+        None
+    }
     /// True once the model has ended the run early (failure, quiet steps).
     fn stopped(&self) -> bool {
         false
@@ -113,7 +116,7 @@ pub trait Model: Send + Sized {
         false
     }
     /// After every step, once the state is known to be finite and before any row: stability
-    /// checks and step adaptation. Every step, not at output steps only: a granular run that
+    /// checks and step adaptation, the new step returned as by [`Model::after_step`]. Every step, not at output steps only: a granular run that
     /// adapted its step at output steps only took 50 steps between checks with the scene's
     /// `output.every = 50`, its contacts stiffened unseen, and its step collapsed from
     /// 1.1e-7 s to 1.8e-12 s (a run that never ended) where `output.every = 1` finished in
@@ -121,10 +124,10 @@ pub trait Model: Send + Sized {
     fn check_step(
         &mut self,
         _scene: &Scene,
-        _clock: &mut Clock,
+        _clock: &Clock,
         _warn: &mut Vec<String>,
-    ) -> Result<()> {
-        Ok(())
+    ) -> Result<Option<f64>> {
+        Ok(None)
     }
     /// The series row now.
     fn row(&mut self, clock: &Clock) -> Vec<f64>;

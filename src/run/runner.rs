@@ -247,7 +247,9 @@ impl<M: Model> Runner<M> {
         self.model.step(&self.clock, dt);
         self.clock.step += 1;
         self.clock.time += dt;
-        self.model.after_step(&mut self.clock, dt);
+        if let Some(dt) = self.model.after_step(&self.clock, dt) {
+            self.clock.set_dt(dt);
+        }
     }
 
     /// After every step: check the state is finite (a pass over the bodies, cheap beside the
@@ -271,8 +273,12 @@ impl<M: Model> Runner<M> {
                 self.clock.step, self.clock.time
             )));
         }
-        self.model
-            .check_step(&self.scene, &mut self.clock, &mut self.warnings)?;
+        if let Some(dt) = self
+            .model
+            .check_step(&self.scene, &self.clock, &mut self.warnings)?
+        {
+            self.clock.set_dt(dt);
+        }
         let c = &self.clock;
         let due = c.step % self.scene.output.every == 0
             || c.step == c.end_step

@@ -16,7 +16,9 @@ pub(super) const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// seed of its keyed draws instead of a sequential stream.
 /// 6: fracture constants gained the size exponent, the particle-strength reading and the
 /// comminution limit; granular states keep how far comminution has gone at each report strain.
-pub(super) const STATE_VERSION: u32 = 6;
+/// 7: granular states keep their whole step control (cadence, target, first step, counters,
+/// a collapse) where they kept the largest `ω dt` and the shortenings.
+pub(super) const STATE_VERSION: u32 = 7;
 
 /// Which scene a saved state belongs to: a state restored under another scene took that
 /// scene's parameters with its own bodies (a dlsm state of E = 1 GPa went on under a handle of

@@ -54,6 +54,22 @@ pub fn fracture_params(scene: &Scene, cfg: &GranularScene) -> FractureParams {
     )
 }
 
+/// The step control of a granular run whose first step is `dt` (s): with fracture and
+/// `time.dt = "auto"` it shortens the step as pieces stiffen, checked every
+/// [`STABILITY_EVERY`] steps; otherwise it checks after every step and never shortens.
+pub(super) fn step_control(scene: &Scene, dt: f64) -> StepControl {
+    let adapting = scene.has_effect(EffectKind::Fracture) && scene.time.dt == DtSpec::Auto;
+    if adapting {
+        StepControl::new(
+            STABILITY_EVERY,
+            Some(ADAPT_PER_SAFETY * scene.time.safety),
+            dt,
+        )
+    } else {
+        StepControl::new(1, None, dt)
+    }
+}
+
 impl Granular {
     /// Sets the model up on a sample (built from the scene, or made elsewhere).
     pub fn from_sample(scene: &Scene, cfg: GranularScene, sample: Sample) -> Result<Built<Self>> {
@@ -105,8 +121,7 @@ impl Granular {
                 sample: info,
                 height0,
                 dt_rayleigh,
-                max_omega_dt: 0.0,
-                dt_shortened: 0,
+                step_control: step_control(scene, dt),
                 fracture: fracture_state,
                 energy: None,
                 psd: Vec::new(),
@@ -151,10 +166,7 @@ impl Granular {
                 .report_strains
                 .clone()
                 .unwrap_or_else(|| vec![0.05, 0.1, 0.2, 0.3, 0.4]),
-            auto_dt: scene.time.dt == DtSpec::Auto,
-            adapt_omega_dt: ADAPT_PER_SAFETY * scene.time.safety,
             solid_volume: std::cell::Cell::new(None),
-            collapsed: None,
             cfg,
             state,
         }

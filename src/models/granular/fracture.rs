@@ -52,7 +52,7 @@ impl Comminution {
 impl Granular {
     /// Fracture after a step: account the step's energy, break the grains that fail at the
     /// new state, and take the size distribution at the report strains.
-    pub(super) fn after_fracture_step(&mut self, clock: &mut Clock, dt: f64) {
+    pub(super) fn after_fracture_step(&mut self, clock: &Clock, dt: f64) -> Option<f64> {
         let dissipated = self.pipeline.records().map_or(0.0, |r| r.dissipated);
         if let Some(e) = &mut self.state.energy {
             e.add_step(&self.state.walls, dissipated, dt);
@@ -61,42 +61,42 @@ impl Granular {
         let fracture = st.fracture.as_mut().expect("called with fracture");
         let records = self.pipeline.records().expect("fracture records contacts");
         let breaking = fracture.check(&st.bodies, &st.forces, records);
-        self.break_grains(clock, &breaking);
+        let (_, new_dt) = self.break_grains(clock, &breaking);
         self.take_size_distributions();
+        new_dt
     }
 
     /// Splits the given grains now (each with what broke it; see
     /// [`GrainFracture::check`]), re-evaluates the forces on the new shapes and bonds the
     /// halves. Returns the number of splits made (grains whose shape forbids breaking make
-    /// none). Needs the `fracture` effect.
+    /// none) and the step to take from now on when the pieces need a shorter one (see
+    /// [`Granular::adapted_step`]). Needs the `fracture` effect.
     pub fn break_grains(
         &mut self,
-        clock: &mut Clock,
+        clock: &Clock,
         breaking: &[crate::fracture::Breaking],
-    ) -> usize {
+    ) -> (usize, Option<f64>) {
         if breaking.is_empty() || self.state.fracture.is_none() {
-            return 0;
+            return (0, None);
         }
         let before = self.mechanical_energy();
         let st = &mut self.state;
         let fracture = st.fracture.as_mut().expect("checked above");
         let pending = fracture.split(&mut st.bodies, &st.forces, breaking, clock.step, clock.time);
+        let mut new_dt = None;
         if !pending.is_empty() {
             let reshaped: Vec<usize> = pending.iter().map(|p| p.a).collect();
             self.pipeline.reshaped(&reshaped);
             self.state.forces = Forces::new(self.state.bodies.len());
             self.evaluate_forces(clock.dt, false);
-            let omega = self
-                .pipeline
-                .max_frequency(&self.state.bodies, &self.state.walls);
-            self.adapt_time_step(clock, omega);
+            new_dt = self.adapted_step(clock);
             let after = self.mechanical_energy();
             let st = &mut self.state;
             let fracture = st.fracture.as_mut().expect("checked above");
             fracture.split_energy += after.total() - before.total();
             fracture.bond(&st.bodies, &mut st.forces, &pending);
         }
-        pending.len()
+        (pending.len(), new_dt)
     }
 
     /// Kinetic, contact elastic and gravitational energy now (J); elastic from the contact

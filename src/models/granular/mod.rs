@@ -31,9 +31,7 @@ use serde_json::{Map, Value};
 use crate::effects::{ContactParams, Pipeline, StepContext};
 use crate::error::{Error, Result};
 use crate::fracture::{FractureParams, GrainFracture};
-use crate::integrate::{
-    StepVerdict, VelocityVerlet, adapted_step, rayleigh_time_step, step_verdict,
-};
+use crate::integrate::{StepControl, VelocityVerlet, rayleigh_time_step};
 use crate::output::vtk;
 use crate::probe::energy::{EnergyAccount, Mechanical};
 use crate::probe::size_distribution;
@@ -65,15 +63,8 @@ pub struct Granular {
     /// `output.report_strains` or the default list, before the loading picks those it
     /// reaches (see [`Granular::report_strains`]).
     strains_asked: Vec<f64>,
-    /// `time.dt = "auto"`: the step may be shortened for breaking grains' pieces.
-    pub auto_dt: bool,
-    /// The `ω dt` the step is shortened to: [`ADAPT_PER_SAFETY`] × `time.safety`.
-    pub adapt_omega_dt: f64,
     /// The grains' total volume (m³) at a body count (see `fault`); not state.
     solid_volume: std::cell::Cell<Option<(usize, f64)>>,
-    /// Set when a shortened step leaves more than [`crate::run::MAX_STEPS`] steps to the end:
-    /// the run stops at the next check saying so (see `adapt_time_step`); not state.
-    collapsed: Option<String>,
     pub state: GranularState,
 }
 
@@ -90,10 +81,11 @@ pub struct GranularState {
     pub height0: f64,
     /// The Rayleigh critical step the first step derives from (s).
     pub dt_rayleigh: f64,
-    /// The largest `ω dt` seen after a step (see `Granular::check_stability`).
-    pub max_omega_dt: f64,
-    /// Times the step was shortened for breaking grains' pieces (see `adapt_time_step`).
-    pub dt_shortened: u32,
+    /// The step's policy and record: checked after every step, or with fracture and
+    /// `time.dt = "auto"` every [`STABILITY_EVERY`] steps and shortened to
+    /// [`ADAPT_PER_SAFETY`] × `time.safety` as pieces stiffen; the largest `ω dt` seen, the
+    /// shortenings, a collapse.
+    pub step_control: StepControl,
     /// Particle fracture and cohesion (the `fracture` effect), its energy account and the
     /// pieces' masses at the report strains.
     pub fracture: Option<GrainFracture>,

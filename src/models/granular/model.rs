@@ -76,21 +76,22 @@ impl Model for Granular {
         self.integrator.kick(&mut st.bodies, &st.forces, dt);
     }
 
-    fn after_step(&mut self, clock: &mut Clock, dt: f64) {
+    fn after_step(&mut self, clock: &Clock, dt: f64) -> Option<f64> {
         if self.state.fracture.is_some() {
-            self.after_fracture_step(clock, dt);
+            self.after_fracture_step(clock, dt)
+        } else {
+            None
         }
     }
 
     fn check_step(
         &mut self,
         scene: &Scene,
-        clock: &mut Clock,
+        clock: &Clock,
         warn: &mut Vec<String>,
-    ) -> Result<()> {
-        let adapting = self.state.fracture.is_some() && self.auto_dt;
-        if adapting && clock.step % STABILITY_EVERY != 0 && clock.step != clock.end_step {
-            return Ok(());
+    ) -> Result<Option<f64>> {
+        if !self.state.step_control.due(clock.step, clock.end_step) {
+            return Ok(None);
         }
         self.check_stability(scene, clock, warn)
     }
@@ -102,7 +103,7 @@ impl Model for Granular {
     /// the neighbour search slowed to a crawl. The grains' volume changes only when
     /// one splits, so it is cached by body count.
     fn fault(&self, _clock: &Clock) -> Option<String> {
-        if let Some(why) = &self.collapsed {
+        if let Some(why) = &self.state.step_control.collapsed {
             return Some(why.clone());
         }
         let st = &self.state;
@@ -176,9 +177,9 @@ impl Model for Granular {
         m.insert("contacts_final".into(), self.pipeline.contacts().into());
         m.insert("initial_mean_stress".into(), st.initial[0].into());
         m.insert("initial_coordination".into(), st.initial[1].into());
-        m.insert("max_omega_dt".into(), st.max_omega_dt.into());
+        m.insert("max_omega_dt".into(), st.step_control.max_omega_dt.into());
         if st.fracture.is_some() {
-            m.insert("dt_shortened".into(), st.dt_shortened.into());
+            m.insert("dt_shortened".into(), st.step_control.shortened.into());
         }
         m.insert(
             "kinetic_energy_final".into(),
@@ -256,7 +257,10 @@ impl Runner<Granular> {
 
     /// Splits the given grains now (see [`Granular::break_grains`]).
     pub fn break_grains(&mut self, breaking: &[crate::fracture::Breaking]) -> usize {
-        let (model, clock) = (&mut self.model, &mut self.clock);
-        model.break_grains(clock, breaking)
+        let (made, new_dt) = self.model.break_grains(&self.clock, breaking);
+        if let Some(dt) = new_dt {
+            self.clock.set_dt(dt);
+        }
+        made
     }
 }

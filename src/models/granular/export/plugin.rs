@@ -267,7 +267,7 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     // Fractum shortens a fracture run's step as pieces stiffen (time.dt = "auto"), checked
     // every STABILITY_EVERY steps; the plugin does the same (fix fractum/dt), so the run ends at
     // Fractum's end time, not after a step count.
-    let adapt = fracture && sim.model.auto_dt;
+    let adapt = sim.model.state.step_control.target.filter(|_| fracture);
     if let Some(f) = st.fracture.as_ref().filter(|_| fracture) {
         let p = &f.params;
         let mut line = format!(
@@ -292,12 +292,11 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         let _ = writeln!(s, "{line}");
         // The step against the contacts (after the fracture fix: it reads the step's splits):
         // adapted as Fractum's, or, with a step in seconds, checked at every step.
-        if adapt {
+        if let Some(omega_dt) = adapt {
             let _ = writeln!(
                 s,
-                "fix             dt all fractum/dt {} omega_dt {:e}",
+                "fix             dt all fractum/dt {} omega_dt {omega_dt:e}",
                 crate::models::granular::STABILITY_EVERY,
-                sim.model.adapt_omega_dt
             );
         } else {
             let _ = writeln!(s, "fix             dt all fractum/dt 0");
@@ -335,7 +334,7 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         columns.join(","),
         (plan.steps / 20).max(every),
     );
-    if adapt {
+    if adapt.is_some() {
         // Fractum's last step is the first to reach the end time (less a billionth of a
         // step); the step count bounds a run whose step shortens up to 100-fold.
         let end_time = plan.loading.end_time();
