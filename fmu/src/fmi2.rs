@@ -53,7 +53,7 @@ pub trait Model: Default {
     /// Builds the model from its parameters and the FMU's resources folder, at the end of
     /// initialisation.
     fn build(&mut self, resources: &Path) -> Result<(), Failure>;
-    /// A progress sentence after [`Model::build`], logged when debug logging is on.
+    /// A progress sentence after [`Physics::build`], logged when debug logging is on.
     fn built(&self) -> String;
     /// The value of a Real variable (any phase).
     fn real(&self, vr: u32) -> Result<f64, Failure>;

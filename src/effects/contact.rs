@@ -69,7 +69,7 @@ pub fn build_contact(params: ContactParams) -> Box<dyn Effect> {
 
 /// Below this many bodies per thread the pair loop runs on one thread even with a worker
 /// team. Whether a step is worth the team at all (dense spheres below 1500 per thread are
-/// not) is the model's decision, [`crate::run::Model::team_members`].
+/// not) is the model's decision, [`crate::run::Physics::team_members`].
 const PARALLEL_MIN_BODIES_PER_THREAD: usize = 100;
 
 /// A thread's private sums of forces and torques over the bodies `range` (and, POLY, its

@@ -40,6 +40,22 @@ impl Clock {
         };
     }
 
+    /// The clock a run starts from: t = 0 at step 0, steps of `dt` (s) to `end_time` (s;
+    /// infinite: driven from outside), the end step from them. Refused, naming the key at
+    /// fault, when that plan needs more than [`MAX_STEPS`] steps or, under `time.dt = "auto"`,
+    /// fewer than [`MIN_STEPS`] (the sentences of `check_planned_steps`; `young` is the model's
+    /// `material.young`, Pa). Every model starts its run from this.
+    pub fn planned(scene: &Scene, young: f64, dt: f64, end_time: f64) -> Result<Clock> {
+        check_planned_steps(scene, young, end_time, dt)?;
+        Ok(Clock {
+            time: 0.0,
+            step: 0,
+            dt,
+            end_step: end_step(end_time, dt),
+            end_time,
+        })
+    }
+
     /// The time (s) left to the end.
     pub fn remaining(&self) -> f64 {
         self.end_time - self.time

@@ -46,13 +46,13 @@ pub trait Run: Send {
     fn status(&self) -> String;
     /// Warnings for the user, in the order they arose.
     fn warnings(&self) -> &[String];
-    /// Body centres, velocities and orientations (see [`Model::positions`]).
+    /// Body centres, velocities and orientations (see [`super::BodiesView::positions`]).
     fn positions(&self) -> Vec<Vec3>;
     fn velocities(&self) -> Vec<Vec3>;
     fn orientations(&self) -> Vec<[f64; 4]>;
-    /// Body radii (m), for models of round grains (see [`Model::radii`]).
+    /// Body radii (m), for models of round grains (see [`super::BodiesView::radii`]).
     fn radii(&self) -> Option<Vec<f64>>;
-    /// The grains' loads at the last fracture check (see [`Model::grain_loads`]).
+    /// The grains' loads at the last fracture check (see [`super::BodiesView::grain_loads`]).
     fn grain_loads(&self) -> Option<Vec<crate::fracture::GrainLoad>>;
     /// Body–body contacts now, for models that count them.
     fn contacts(&self) -> Option<usize>;

@@ -24,9 +24,9 @@ mod model;
 mod runner;
 mod saved;
 
-pub use clock::{Clock, MAX_STEPS, MIN_STEPS, check_planned_steps, end_step};
+pub use clock::{Clock, MAX_STEPS, MIN_STEPS, end_step};
 pub use interface::{Run, common_summary};
 pub use limits::CallLimits;
-pub use model::{Built, Faces, Model, RunInfo};
+pub use model::{BodiesView, Built, Faces, Model, Physics, Report, RunInfo};
 pub use runner::Runner;
 pub use saved::SceneIdentity;

@@ -53,13 +53,7 @@ impl<M: Model> Runner<M> {
     fn start(scene: Scene, built: Built<M>, threads: Threads) -> Result<Self> {
         let mut run = Runner {
             scene,
-            clock: Clock {
-                time: 0.0,
-                step: 0,
-                dt: built.dt,
-                end_step: built.end_step,
-                end_time: built.end_time,
-            },
+            clock: built.clock,
             series: Series::new(&built.columns),
             warnings: built.warnings,
             model: built.model,
@@ -141,7 +135,7 @@ impl<M: Model> Runner<M> {
 
     /// Takes steps with `one` (which returns false when there is none left to take) on the
     /// run's threads, against one call's [`CallLimits`]. The model's choice of the worker team
-    /// ([`Model::team_members`]) is read again after every step and the threads re-entered when it
+    /// ([`Physics::team_members`]) is read again after every step and the threads re-entered when it
     /// changes (a granular run of spheres gets its first poly-ellipsoid at a split): it follows
     /// the state, not how the caller cuts its run into `advance` calls. Before, it was read
     /// once per call: one `advance` over a whole run of spheres that break kept the pieces off
@@ -255,7 +249,7 @@ impl<M: Model> Runner<M> {
     /// After every step: check the state is finite (a pass over the bodies, cheap beside the
     /// step; at output steps only, a run driven with a long output interval went on stepping
     /// NaN and reported success), and let the model check its stability and adapt its step
-    /// ([`Model::check_step`]). At output steps: record a series row. What a run computes
+    /// ([`Physics::check_step`]). At output steps: record a series row. What a run computes
     /// does not depend on `output.every`, only what it writes.
     fn after_step(&mut self) -> Result<()> {
         if let Some(i) = self.model.first_non_finite() {

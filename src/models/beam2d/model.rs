@@ -3,15 +3,20 @@
 use super::build::{critical_time_step, lattice, make_beams, polygon_pipeline};
 use super::report::fragments;
 use super::*;
+use crate::run::{BodiesView, Physics, Report};
 
 impl Model for Beam2d {
     const KIND: &'static str = "beam2d";
+
     type Raw = scene::RawBeam2dScene;
-    type Config = Beam2dScene;
+
     const BODY: &'static str = "polygon";
+
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
+
     const INTEGRATORS: &'static [IntegratorKind] =
         &[IntegratorKind::VelocityVerlet, IntegratorKind::Gear5];
+
     const SHARED_KEYS: &'static [&'static str] = &[];
 
     fn config(scene: &Scene, raw: &scene::RawBeam2dScene) -> Result<Beam2dScene> {
@@ -21,6 +26,10 @@ impl Model for Beam2d {
     fn explain(scene: &Scene, cfg: &Beam2dScene) -> Result<String> {
         explain::explain(scene, cfg)
     }
+}
+
+impl Physics for Beam2d {
+    type Config = Beam2dScene;
 
     fn build(
         scene: &Scene,
@@ -82,9 +91,9 @@ impl Model for Beam2d {
         }
         let warnings = Vec::new();
         let columns = loading.columns().to_vec();
-        crate::run::check_planned_steps(scene, cfg.material.young, loading.end_time(), dt)?;
-        let end_step = loading.end_step(dt);
-        let end_time = loading.end_time();
+        let mut clock = Clock::planned(scene, cfg.material.young, dt, loading.end_time())?;
+        // The moduli test runs two phases, each to the loading's end time.
+        clock.end_step = loading.end_step(dt);
         let state = Beam2dState {
             forces: vec![[0.0; 3]; polygons.len()],
             momentum0: polygons.momentum(),
@@ -110,9 +119,7 @@ impl Model for Beam2d {
         model.restart_dynamics(0.0, dt);
         Ok(Built {
             model,
-            dt,
-            end_step,
-            end_time,
+            clock,
             columns,
             warnings,
         })
@@ -187,6 +194,30 @@ impl Model for Beam2d {
         clock.step == self.phase_end(clock)
     }
 
+    fn after_row(&mut self, clock: &Clock, _series: &Series) {
+        if clock.step == self.phase_end(clock) {
+            self.start_compression_phase(clock);
+        }
+    }
+
+    fn first_non_finite(&self) -> Option<usize> {
+        self.state.polygons.first_non_finite()
+    }
+
+    fn instability_hint(&self, _scene: &Scene, clock: &Clock) -> String {
+        format!(
+            "lower time.dt (now {:e} s, estimated limit {:e} s)",
+            clock.dt, self.state.dt_critical
+        )
+    }
+
+    /// Gear's scaled derivatives hold the step: it cannot be shortened.
+    fn variable_step(&self) -> bool {
+        matches!(self.state.integrator, Integrator2d::VelocityVerlet)
+    }
+}
+
+impl Report for Beam2d {
     fn row(&mut self, clock: &Clock) -> Vec<f64> {
         let st = &mut self.state;
         let p = &st.polygons;
@@ -223,28 +254,6 @@ impl Model for Beam2d {
                 ]
             }
         }
-    }
-
-    fn after_row(&mut self, clock: &Clock, _series: &Series) {
-        if clock.step == self.phase_end(clock) {
-            self.start_compression_phase(clock);
-        }
-    }
-
-    fn first_non_finite(&self) -> Option<usize> {
-        self.state.polygons.first_non_finite()
-    }
-
-    fn instability_hint(&self, _scene: &Scene, clock: &Clock) -> String {
-        format!(
-            "lower time.dt (now {:e} s, estimated limit {:e} s)",
-            clock.dt, self.state.dt_critical
-        )
-    }
-
-    /// Gear's scaled derivatives hold the step: it cannot be shortened.
-    fn variable_step(&self) -> bool {
-        matches!(self.state.integrator, Integrator2d::VelocityVerlet)
     }
 
     fn summary(&self, run: &RunInfo, m: &mut Map<String, Value>) {
@@ -331,7 +340,9 @@ impl Model for Beam2d {
             self.state.beams.broken()
         )
     }
+}
 
+impl BodiesView for Beam2d {
     fn contacts(&self) -> Option<usize> {
         Some(self.state.contacts)
     }

@@ -33,7 +33,7 @@ use crate::contact::polyhedron::{BrokenContacts, GroundContact};
 use crate::error::{Error, Result};
 use crate::integrate::TchamwaWielgosz;
 use crate::output::vtk;
-use crate::run::{Built, Clock, Model, RunInfo, Runner, end_step};
+use crate::run::{Built, Clock, Model, RunInfo, Runner};
 use crate::sample::voronoi::Domain;
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::shape::polyhedron::Polyhedron;

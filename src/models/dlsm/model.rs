@@ -1,17 +1,22 @@
 //! The dlsm model as the runner drives it.
 
 use super::*;
+use crate::run::{BodiesView, Physics, Report};
 
 impl Model for Dlsm {
     const KIND: &'static str = "dlsm";
+
     type Raw = scene::RawDlsmScene;
-    type Config = DlsmScene;
+
     const BODY: &'static str = "element";
+
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
+
     const INTEGRATORS: &'static [IntegratorKind] = &[
         IntegratorKind::VelocityVerlet,
         IntegratorKind::TchamwaWielgosz,
     ];
+
     const SHARED_KEYS: &'static [&'static str] = &["time.phi"];
 
     fn config(scene: &Scene, raw: &scene::RawDlsmScene) -> Result<DlsmScene> {
@@ -21,6 +26,10 @@ impl Model for Dlsm {
     fn explain(scene: &Scene, cfg: &DlsmScene) -> Result<String> {
         explain::explain(scene, cfg)
     }
+}
+
+impl Physics for Dlsm {
+    type Config = DlsmScene;
 
     fn build(
         scene: &Scene,
@@ -32,15 +41,7 @@ impl Model for Dlsm {
         model.check_step(scene, dt)?;
         let columns = model.state.loading.as_loading().columns();
         let end_time = model.state.loading.as_loading().end_time();
-        crate::run::check_planned_steps(scene, model.cfg.material.young, end_time, dt)?;
-        let end = end_step(end_time, dt);
-        let start = Clock {
-            time: 0.0,
-            step: 0,
-            dt,
-            end_step: end,
-            end_time,
-        };
+        let start = Clock::planned(scene, model.cfg.material.young, dt, end_time)?;
         model
             .state
             .loading
@@ -49,9 +50,7 @@ impl Model for Dlsm {
         model.evaluate_forces(&start, 0.0);
         Ok(Built {
             model,
-            dt,
-            end_step: end,
-            end_time,
+            clock: start,
             columns,
             warnings,
         })
@@ -107,28 +106,6 @@ impl Model for Dlsm {
         self.state.stopped
     }
 
-    fn row(&mut self, clock: &Clock) -> Vec<f64> {
-        let st = &mut self.state;
-        let drop = matches!(
-            st.loading,
-            DlsmLoading::Drop(_) | DlsmLoading::FreeVibration(_)
-        );
-        let inputs = RowInputs {
-            time: clock.time,
-            bodies: &st.bodies,
-            reference: &self.reference,
-            broken: st.broken_order.len(),
-            strain_energy: if drop {
-                self.bonds.strain_energy(&st.bodies)
-            } else {
-                0.0
-            },
-            contact_energy: st.ground.as_ref().map_or(0.0, |g| g.energy),
-            ground_contacts: st.ground.as_ref().map_or(0, |g| g.contacts),
-        };
-        st.loading.as_loading_mut().row(&inputs)
-    }
-
     fn after_row(&mut self, _clock: &Clock, series: &crate::probe::Series) {
         if self.state.loading.as_loading().failed(series) {
             self.state.stopped = true;
@@ -174,6 +151,30 @@ impl Model for Dlsm {
     fn instability_hint(&self, scene: &Scene, _clock: &Clock) -> String {
         format!("lower time.safety (now {}) or time.dt", scene.time.safety)
     }
+}
+
+impl Report for Dlsm {
+    fn row(&mut self, clock: &Clock) -> Vec<f64> {
+        let st = &mut self.state;
+        let drop = matches!(
+            st.loading,
+            DlsmLoading::Drop(_) | DlsmLoading::FreeVibration(_)
+        );
+        let inputs = RowInputs {
+            time: clock.time,
+            bodies: &st.bodies,
+            reference: &self.reference,
+            broken: st.broken_order.len(),
+            strain_energy: if drop {
+                self.bonds.strain_energy(&st.bodies)
+            } else {
+                0.0
+            },
+            contact_energy: st.ground.as_ref().map_or(0.0, |g| g.energy),
+            ground_contacts: st.ground.as_ref().map_or(0, |g| g.contacts),
+        };
+        st.loading.as_loading_mut().row(&inputs)
+    }
 
     fn summary(&self, run: &RunInfo, m: &mut Map<String, Value>) {
         self.summary_keys(run, m);
@@ -190,7 +191,9 @@ impl Model for Dlsm {
             self.state.broken_order.len()
         )
     }
+}
 
+impl BodiesView for Dlsm {
     fn rigid_bodies(&self) -> Option<&Bodies> {
         Some(&self.state.bodies)
     }

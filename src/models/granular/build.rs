@@ -95,9 +95,7 @@ impl Granular {
         let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
         let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson);
         let dt = scene.time.step(dt_rayleigh);
-        crate::run::check_planned_steps(scene, m.young, loading.end_time(), dt)?;
-        let end = end_step(loading.end_time(), dt);
-        let end_time = loading.end_time();
+        let clock = Clock::planned(scene, m.young, dt, loading.end_time())?;
         let mut columns: Vec<&'static str> = if matches!(loading, Loading::Platens { .. }) {
             probe::PLATEN_COLUMNS.to_vec()
         } else if walls.is_box {
@@ -140,9 +138,7 @@ impl Granular {
         }
         Ok(Built {
             model,
-            dt,
-            end_step: end,
-            end_time,
+            clock,
             columns,
             warnings: Vec::new(),
         })

@@ -70,7 +70,7 @@ impl Granular {
     /// [`GrainFracture::check`]), re-evaluates the forces on the new shapes and bonds the
     /// halves. Returns the number of splits made (grains whose shape forbids breaking make
     /// none) and the step to take from now on when the pieces need a shorter one (see
-    /// [`Granular::adapted_step`]). Needs the `fracture` effect.
+    /// `Granular::adapted_step`). Needs the `fracture` effect.
     pub fn break_grains(
         &mut self,
         clock: &Clock,

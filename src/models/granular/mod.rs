@@ -37,7 +37,7 @@ use crate::probe::energy::{EnergyAccount, Mechanical};
 use crate::probe::size_distribution;
 use crate::probe::{self, Series};
 pub use crate::run::Faces;
-use crate::run::{Built, Clock, Model, RunInfo, Runner, end_step};
+use crate::run::{Built, Clock, Model, RunInfo, Runner};
 use crate::sample::{Sample, SampleInfo};
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};

@@ -2,14 +2,19 @@
 
 use super::step::TEAM_MIN_SPHERES_PER_THREAD;
 use super::*;
+use crate::run::{BodiesView, Physics, Report};
 
 impl Model for Granular {
     const KIND: &'static str = "granular";
+
     type Raw = scene::RawGranularScene;
-    type Config = GranularScene;
+
     const BODY: &'static str = "body";
+
     const EFFECTS: &'static [EffectKind] = &scene::EFFECTS;
+
     const INTEGRATORS: &'static [IntegratorKind] = &[IntegratorKind::VelocityVerlet];
+
     const SHARED_KEYS: &'static [&'static str] = &["output.report_strains"];
 
     fn config(scene: &Scene, raw: &scene::RawGranularScene) -> Result<GranularScene> {
@@ -19,6 +24,10 @@ impl Model for Granular {
     fn explain(scene: &Scene, cfg: &GranularScene) -> Result<String> {
         explain::explain(scene, cfg)
     }
+}
+
+impl Physics for Granular {
+    type Config = GranularScene;
 
     fn build(
         scene: &Scene,
@@ -129,6 +138,16 @@ impl Model for Granular {
         })
     }
 
+    fn first_non_finite(&self) -> Option<usize> {
+        self.state.bodies.first_non_finite()
+    }
+
+    fn instability_hint(&self, scene: &Scene, _clock: &Clock) -> String {
+        format!("lower time.safety (now {}) or time.dt", scene.time.safety)
+    }
+}
+
+impl Report for Granular {
     fn row(&mut self, clock: &Clock) -> Vec<f64> {
         let st = &self.state;
         let contacts = self.pipeline.contacts();
@@ -153,14 +172,6 @@ impl Model for Granular {
             ]);
         }
         row
-    }
-
-    fn first_non_finite(&self) -> Option<usize> {
-        self.state.bodies.first_non_finite()
-    }
-
-    fn instability_hint(&self, scene: &Scene, _clock: &Clock) -> String {
-        format!("lower time.safety (now {}) or time.dt", scene.time.safety)
     }
 
     fn summary(&self, run: &RunInfo, m: &mut Map<String, Value>) {
@@ -218,7 +229,9 @@ impl Model for Granular {
             self.axial_strain()
         )
     }
+}
 
+impl BodiesView for Granular {
     fn rigid_bodies(&self) -> Option<&Bodies> {
         Some(&self.state.bodies)
     }

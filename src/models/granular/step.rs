@@ -4,7 +4,7 @@
 use super::*;
 
 /// Spheres per thread from which a granular step runs on the worker team (see
-/// `Model::team_members` below).
+/// `Physics::team_members` below).
 pub(super) const TEAM_MIN_SPHERES_PER_THREAD: usize = 1500;
 
 /// Steps between the stability checks and step adaptations of a granular run that adapts its
