@@ -34,7 +34,7 @@ pub struct RunInfo<'a> {
 pub trait Faces {
     /// Drives the faces from now on at `top` and `bottom` m/s into the sample (compression
     /// positive). Use [`super::Run::set_face_speeds`], which also lifts the run's end.
-    fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()>;
+    fn drive(&mut self, top: f64, bottom: f64) -> Result<()>;
     /// Compressive normal force (N) on the top and bottom faces.
     fn face_forces(&self) -> (f64, f64);
     /// Compressive normal stress (Pa) on the top and bottom faces.

@@ -421,7 +421,7 @@ impl<M: Model> Run for Runner<M> {
                 M::KIND
             ))
         })?;
-        faces.set_face_speeds(top, bottom)?;
+        faces.drive(top, bottom)?;
         self.clock.end_step = u64::MAX;
         self.clock.end_time = f64::INFINITY;
         Ok(())

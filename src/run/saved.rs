@@ -17,7 +17,8 @@ pub(super) const STATE_MAGIC: &[u8; 8] = b"FRACTUMS";
 /// 6: fracture constants gained the size exponent, the particle-strength reading and the
 /// comminution limit; granular states keep how far comminution has gone at each report strain.
 /// 7: granular states keep their whole step control (cadence, target, first step, counters,
-/// a collapse) where they kept the largest `ω dt` and the shortenings.
+/// a collapse) where they kept the largest `ω dt` and the shortenings, and faces driven from
+/// outside beside the scene's loading instead of in its place.
 pub(super) const STATE_VERSION: u32 = 7;
 
 /// Which scene a saved state belongs to: a state restored under another scene took that

@@ -125,6 +125,7 @@ impl Granular {
                 psd: Vec::new(),
                 comminution: Vec::new(),
                 initial: [0.0; 2],
+                driven: None,
             },
         );
         model.evaluate_forces(dt, false);

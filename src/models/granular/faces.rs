@@ -3,7 +3,7 @@
 use super::*;
 
 impl Faces for Granular {
-    fn set_face_speeds(&mut self, top: f64, bottom: f64) -> Result<()> {
+    fn drive(&mut self, top: f64, bottom: f64) -> Result<()> {
         if !self.state.walls.is_box {
             return Err(Error::run(
                 "face speeds need a sample in a box (random, lattice or file packing)",
@@ -14,7 +14,7 @@ impl Faces for Granular {
                 "face speeds must be finite, got top {top} and bottom {bottom} m/s"
             )));
         }
-        self.state.loading = Loading::Faces { top, bottom };
+        self.state.driven = Some(DrivenFaces { top, bottom });
         Ok(())
     }
 

@@ -9,7 +9,27 @@ use crate::probe::fit::least_squares_slope;
 use crate::scene::Scene;
 use crate::state::{BoxFace, Walls};
 
-/// How the boundaries move during the run.
+/// The top (z+) and bottom (z-) faces of a box driven at speeds set from outside (an embedding
+/// host, an FMU) in place of the scene's loading: positive speeds move a face into the sample
+/// (compression positive), as the incident and transmitted bars of a split Hopkinson pressure
+/// bar do. No end of its own.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct DrivenFaces {
+    pub top: f64,
+    pub bottom: f64,
+}
+
+impl DrivenFaces {
+    /// Sets the two faces' velocities for the coming step.
+    pub fn apply(&self, walls: &mut Walls) {
+        for (face, speed) in [(BoxFace::ZMax, self.top), (BoxFace::ZMin, self.bottom)] {
+            let wall = walls.face_mut(face);
+            wall.velocity = wall.normal * speed;
+        }
+    }
+}
+
+/// How the boundaries move during the run, as the scene says.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub enum Loading {
     /// Walls stay where they are for `end_time` seconds.
@@ -22,10 +42,6 @@ pub enum Loading {
         /// Box height at the start of loading (m).
         height0: f64,
     },
-    /// The top (z+) and bottom (z-) faces move at speeds set from outside (an embedding host,
-    /// an FMU): positive speeds move a face into the sample (compression positive), as the
-    /// incident and transmitted bars of a split Hopkinson pressure bar do. No end of its own.
-    Faces { top: f64, bottom: f64 },
     /// Flat platens: the top (z+) wall moves down at `speed` (m/s) until it has travelled
     /// `end_displacement` (m); the bottom (z-) wall is fixed.
     Platens { speed: f64, end_displacement: f64 },
@@ -85,12 +101,6 @@ impl Loading {
                 let top = walls.face_mut(BoxFace::ZMax);
                 top.velocity = top.normal * *speed;
             }
-            Loading::Faces { top, bottom } => {
-                for (face, speed) in [(BoxFace::ZMax, top), (BoxFace::ZMin, bottom)] {
-                    let wall = walls.face_mut(face);
-                    wall.velocity = wall.normal * *speed;
-                }
-            }
         }
     }
 
@@ -103,7 +113,6 @@ impl Loading {
                 end_strain,
                 ..
             } => end_strain / strain_rate,
-            Loading::Faces { .. } => f64::INFINITY,
             Loading::Platens {
                 speed,
                 end_displacement,

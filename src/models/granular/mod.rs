@@ -41,7 +41,7 @@ use crate::run::{Built, Clock, Model, RunInfo, Runner};
 use crate::sample::{Sample, SampleInfo};
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
-use loading::Loading;
+use loading::{DrivenFaces, Loading};
 use scene::GranularScene;
 
 pub use build::{contact_params, fracture_params, pipeline};
@@ -97,9 +97,17 @@ pub struct GranularState {
     /// positive) and the mean coordination number (contacts per body, a wall contact counting
     /// once), at the first force evaluation.
     pub initial: [f64; 2],
+    /// The faces a host drives from outside once it has set their speeds: from then on they,
+    /// not `loading`, move the box (see [`GranularState::loading`]).
+    pub driven: Option<DrivenFaces>,
 }
 
 impl GranularState {
+    /// The scene's loading while it moves the boundaries; `None` once a host drives the faces.
+    pub fn loading(&self) -> Option<&Loading> {
+        self.driven.is_none().then_some(&self.loading)
+    }
+
     /// Whether every per-body array (bodies, forces, fracture) has one entry per body, the
     /// springs and pieces point at bodies and grains that exist, and the bodies, walls and
     /// forces hold finite values; checked on a restored state before it is stepped.

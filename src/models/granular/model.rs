@@ -77,7 +77,10 @@ impl Physics for Granular {
 
     fn step(&mut self, _clock: &Clock, dt: f64) {
         let st = &mut self.state;
-        st.loading.apply(&mut st.walls);
+        match &st.driven {
+            Some(d) => d.apply(&mut st.walls),
+            None => st.loading.apply(&mut st.walls),
+        }
         self.integrator.kick_drift(&mut st.bodies, &st.forces, dt);
         st.walls.advance(dt);
         self.evaluate_forces(dt, true);
@@ -116,7 +119,7 @@ impl Physics for Granular {
             return Some(why.clone());
         }
         let st = &self.state;
-        if !st.walls.is_box || matches!(st.loading, Loading::None { .. }) {
+        if !st.walls.is_box || matches!(st.loading(), Some(Loading::None { .. })) {
             return None;
         }
         let size = st.walls.box_size();
@@ -151,7 +154,7 @@ impl Report for Granular {
     fn row(&mut self, clock: &Clock) -> Vec<f64> {
         let st = &self.state;
         let contacts = self.pipeline.contacts();
-        let mut row = if matches!(st.loading, Loading::Platens { .. }) {
+        let mut row = if matches!(st.loading(), Some(Loading::Platens { .. })) {
             probe::platen_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)
         } else if st.walls.is_box {
             probe::box_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)
@@ -196,7 +199,9 @@ impl Report for Granular {
             "kinetic_energy_final".into(),
             st.bodies.kinetic_energy().into(),
         );
-        st.loading.summarize(run.series, m);
+        if let Some(l) = st.loading() {
+            l.summarize(run.series, m);
+        }
         self.stress_summary(run.series, m);
         if let Some(f) = &st.fracture {
             self.fracture_summary(f, m);

@@ -52,6 +52,8 @@ pub struct RunPlan<'a> {
     pub bodies: &'a Bodies,
     pub walls: &'a Walls,
     pub loading: &'a Loading,
+    /// Whether a host drives the faces (then the loading is not in force).
+    pub driven: bool,
     /// Time step (s).
     pub dt: f64,
     /// Steps of the run.
@@ -66,6 +68,7 @@ impl<'a> RunPlan<'a> {
             bodies: &sim.model.state.bodies,
             walls: &sim.model.state.walls,
             loading: &sim.model.state.loading,
+            driven: sim.model.state.driven.is_some(),
             dt: sim.clock.dt,
             steps: sim.clock.end_step,
         }
@@ -116,7 +119,7 @@ impl<'a> RunPlan<'a> {
 /// Refuses what the peer codes cannot reproduce (every granular sphere scene can be, but faces
 /// driven by a host have no script equivalent).
 fn check_exportable(plan: &RunPlan, code: &str) -> Result<()> {
-    if let Loading::Faces { .. } = plan.loading {
+    if plan.driven {
         return Err(Error::input(
             &plan.scene.source.label,
             format!("faces driven from outside (FFI/FMU) cannot be exported to {code}"),
