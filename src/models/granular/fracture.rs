@@ -58,8 +58,11 @@ impl Granular {
             e.add_step(&self.state.walls, dissipated, dt);
         }
         let st = &mut self.state;
-        let fracture = st.fracture.as_mut().expect("called with fracture");
-        let records = self.pipeline.records().expect("fracture records contacts");
+        // A run with fracture records its contacts (its pipeline is built for shapes).
+        let (Some(fracture), Some(records)) = (st.fracture.as_mut(), self.pipeline.records())
+        else {
+            return None;
+        };
         let breaking = fracture.check(&st.bodies, &st.forces, records);
         let (_, new_dt) = self.break_grains(clock, &breaking);
         self.take_size_distributions();
@@ -81,7 +84,9 @@ impl Granular {
         }
         let before = self.mechanical_energy();
         let st = &mut self.state;
-        let fracture = st.fracture.as_mut().expect("checked above");
+        let Some(fracture) = st.fracture.as_mut() else {
+            return (0, None);
+        };
         let pending = fracture.split(&mut st.bodies, &st.forces, breaking, clock.step, clock.time);
         let mut new_dt = None;
         if !pending.is_empty() {
@@ -92,9 +97,10 @@ impl Granular {
             new_dt = self.adapted_step(clock);
             let after = self.mechanical_energy();
             let st = &mut self.state;
-            let fracture = st.fracture.as_mut().expect("checked above");
-            fracture.split_energy += after.total() - before.total();
-            fracture.bond(&st.bodies, &mut st.forces, &pending);
+            if let Some(fracture) = st.fracture.as_mut() {
+                fracture.split_energy += after.total() - before.total();
+                fracture.bond(&st.bodies, &mut st.forces, &pending);
+            }
         }
         (pending.len(), new_dt)
     }
