@@ -5,7 +5,19 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-step() { printf '\n== %s\n' "$*"; }
+# Each step prints how long the one before it took and the total so far, so that a CI log shows
+# where the suite's time goes (CI keeps a clean clone's run under 40 minutes).
+suite_start=$SECONDS
+step_start=$SECONDS
+step_name=""
+step() {
+    if [ -n "$step_name" ]; then
+        printf '   (%s: %d s; %d s so far)\n' "$step_name" $((SECONDS - step_start)) $((SECONDS - suite_start))
+    fi
+    step_name="$*"
+    step_start=$SECONDS
+    printf '\n== %s\n' "$*"
+}
 
 step "Debian packages"
 source scripts/setup.sh
