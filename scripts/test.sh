@@ -69,3 +69,4 @@ for release in $OLDER_LAMMPS; do
 done
 
 step "all tests passed"
+printf '   (the whole suite: %d s)\n' $((SECONDS - suite_start))
