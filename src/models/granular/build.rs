@@ -95,8 +95,8 @@ impl Granular {
         let r_min = bodies.min_radius() * if fracture { 0.5 } else { 1.0 };
         let dt_rayleigh = rayleigh_time_step(r_min, m.density, m.young, m.poisson);
         let dt = scene.time.step(dt_rayleigh);
-        let clock = Clock::planned(scene, m.young, dt, loading.end_time())?;
-        let mut columns: Vec<&'static str> = if matches!(loading, Loading::Platens { .. }) {
+        let clock = Clock::planned(scene, m.young, dt, loading.as_loading().end_time())?;
+        let mut columns: Vec<&'static str> = if loading.as_loading().reads_platens() {
             probe::PLATEN_COLUMNS.to_vec()
         } else if walls.is_box {
             probe::BOX_COLUMNS.to_vec()

@@ -41,7 +41,7 @@ use crate::run::{Built, Clock, Model, RunInfo, Runner};
 use crate::sample::{Sample, SampleInfo};
 use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
-use loading::{DrivenFaces, Loading};
+use loading::{BoxLoading, DrivenFaces, Loading};
 use scene::GranularScene;
 
 pub use build::{contact_params, fracture_params, pipeline};
@@ -104,8 +104,8 @@ pub struct GranularState {
 
 impl GranularState {
     /// The scene's loading while it moves the boundaries; `None` once a host drives the faces.
-    pub fn loading(&self) -> Option<&Loading> {
-        self.driven.is_none().then_some(&self.loading)
+    pub fn loading(&self) -> Option<&dyn BoxLoading> {
+        self.driven.is_none().then(|| self.loading.as_loading())
     }
 
     /// Whether every per-body array (bodies, forces, fracture) has one entry per body, the

@@ -79,7 +79,7 @@ impl Physics for Granular {
         let st = &mut self.state;
         match &st.driven {
             Some(d) => d.apply(&mut st.walls),
-            None => st.loading.apply(&mut st.walls),
+            None => st.loading.as_loading().apply(&mut st.walls),
         }
         self.integrator.kick_drift(&mut st.bodies, &st.forces, dt);
         st.walls.advance(dt);
@@ -119,7 +119,7 @@ impl Physics for Granular {
             return Some(why.clone());
         }
         let st = &self.state;
-        if !st.walls.is_box || matches!(st.loading(), Some(Loading::None { .. })) {
+        if !st.walls.is_box || st.loading().is_some_and(|l| l.holds()) {
             return None;
         }
         let size = st.walls.box_size();
@@ -154,7 +154,7 @@ impl Report for Granular {
     fn row(&mut self, clock: &Clock) -> Vec<f64> {
         let st = &self.state;
         let contacts = self.pipeline.contacts();
-        let mut row = if matches!(st.loading(), Some(Loading::Platens { .. })) {
+        let mut row = if st.loading().is_some_and(|l| l.reads_platens()) {
             probe::platen_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)
         } else if st.walls.is_box {
             probe::box_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)

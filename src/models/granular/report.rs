@@ -54,10 +54,11 @@ impl Granular {
 
     /// [`Granular::report_strains`] without collecting them (checked at every step).
     pub(super) fn report_strains_iter(&self) -> impl Iterator<Item = f64> + '_ {
-        let end = match self.state.loading() {
-            Some(Loading::Oedometer { end_strain, .. }) => *end_strain,
-            _ => f64::NEG_INFINITY,
-        };
+        let end = self
+            .state
+            .loading()
+            .and_then(|l| l.end_strain())
+            .unwrap_or(f64::NEG_INFINITY);
         self.strains_asked
             .iter()
             .copied()

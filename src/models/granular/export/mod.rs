@@ -106,11 +106,7 @@ impl<'a> RunPlan<'a> {
     /// Speed of the driven top wall (m/s, downwards) and the box height at the start.
     fn top_speed(&self) -> Option<(f64, f64)> {
         match self.loading {
-            Loading::Oedometer {
-                strain_rate,
-                height0,
-                ..
-            } => Some((strain_rate * height0, *height0)),
+            Loading::Oedometer(o) => Some((o.strain_rate * o.height0, o.height0)),
             _ => None,
         }
     }

@@ -243,13 +243,8 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     let mut drive = String::new();
     for w in &st.walls.walls {
         let (face, _) = plugin_face(&w.normal, &w.point).expect("checked above");
-        let speed = match plan.loading {
-            Loading::Oedometer {
-                strain_rate,
-                height0,
-                ..
-            } if face == 5 => -strain_rate * height0,
-            Loading::Platens { speed, .. } if face == 5 => -speed,
+        let speed = match plan.loading.as_loading().top_speed() {
+            Some(down) if face == 5 => -down,
             _ => w.velocity[face / 2],
         };
         if speed != 0.0 {
@@ -337,7 +332,7 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     if adapt.is_some() {
         // Fractum's last step is the first to reach the end time (less a billionth of a
         // step); the step count bounds a run whose step shortens up to 100-fold.
-        let end_time = plan.loading.end_time();
+        let end_time = plan.loading.as_loading().end_time();
         let _ = writeln!(
             s,
             "variable        fr_time equal time\n\
