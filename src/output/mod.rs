@@ -58,7 +58,7 @@ pub const LOCK_NAME: &str = ".fractum.lock";
 
 /// The result files a run writes at the folder's top (besides the `.pvd` indexes, `vtk/` and
 /// `checkpoints/`): summary.json, series.csv and the models' further outputs
-/// ([`crate::run::Model::extra_outputs`]). A run taking a folder removes an earlier run's.
+/// ([`crate::run::Report::extra_outputs`]). A run taking a folder removes an earlier run's.
 const RESULT_FILES: &[&str] = &[
     "summary.json",
     "series.csv",
