@@ -673,3 +673,24 @@ fn a_step_that_collapses_past_the_step_limit_stops_the_run_naming_the_cause() {
         sim.clock.step
     );
 }
+
+#[test]
+fn a_run_driven_from_outside_shortens_its_step_without_counting_as_collapsed() {
+    // A run whose faces a host drives (the FMU, the C ABI) has no end: the steps left to it are
+    // infinite, and its first shortening counted as a collapse ("more than the limit of 1e9
+    // steps"), which stopped a co-simulation with fracture and an automatic step at its first
+    // shortening. The grain overlaps its walls by a tenth of its radius (the box holds it at a
+    // solid fraction below 1, so the full-density check leaves it alone) and its contacts ask
+    // for a shorter step than the first.
+    let delta = 0.1e-3;
+    let mut sim = squeezed(1e-3, delta).unwrap();
+    sim.set_face_speeds(0.0, 0.0).unwrap();
+    let every = fractum::models::granular::STABILITY_EVERY;
+    sim.advance(3 * every).unwrap();
+    let s = sim.summary();
+    assert!(
+        s["dt_shortened"].as_u64().unwrap() >= 1,
+        "the step was not shortened: {s}"
+    );
+    assert_eq!(sim.clock.step, 3 * every);
+}
