@@ -18,6 +18,7 @@ pub mod error;
 pub mod explain;
 pub mod fracture;
 pub mod integrate;
+pub mod linalg;
 pub mod models;
 pub mod output;
 pub mod parallel;

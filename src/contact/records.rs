@@ -208,7 +208,7 @@ pub fn contact_load(
     let q = Matrix3::from_diagonal_element(root_t) + normal * normal.transpose() * (1.0 - root_t);
     let h = q * g * q * stiffness;
     let h = (h + h.transpose()) * 0.5;
-    crate::fracture::criteria::symmetric3_largest_eigenvalue(&h)
+    crate::linalg::symmetric3_largest_eigenvalue(&h)
 }
 
 /// One contact's share of a body's row (rad²/s²): its load on the body, `own`, plus its
