@@ -27,7 +27,7 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use fractum::models::beam2d::scene::FragmentSpec;
-use fractum::models::beam2d::{Beam2dRun, averaged_power_law_by};
+use fractum::models::beam2d::{Beam2dRun, averaged_power_law_by, mean_polygon_mass};
 use fractum::probe::fragments::bootstrap_interval;
 
 mod common;
@@ -165,11 +165,7 @@ fn fit_row(
     polygons: usize,
 ) -> Row {
     let n = group.len();
-    let unit = group
-        .iter()
-        .map(|r| r.model.state.mean_polygon_mass)
-        .sum::<f64>()
-        / n as f64;
+    let unit = mean_polygon_mass(group);
     let fit = averaged_power_law_by(group, spec, polygons);
     let interval = bootstrap_interval(group, 2000, 20, |draw| {
         let d: Vec<&Beam2dRun> = draw.iter().map(|r| **r).collect();

@@ -16,7 +16,9 @@ use std::fmt::Write as _;
 use std::time::Instant;
 
 use fractum::Run;
-use fractum::models::beam2d::{Beam2dRun, averaged_power_law, averaged_power_law_interval};
+use fractum::models::beam2d::{
+    Beam2dRun, averaged_power_law, averaged_power_law_interval, mean_polygon_mass,
+};
 use fractum::probe::fragments::mass_histogram;
 use plotters::prelude::*;
 
@@ -93,11 +95,7 @@ fn main() {
                 .collect();
             let fit = averaged_power_law(&group);
             let n = group.len() as f64;
-            let unit = group
-                .iter()
-                .map(|r| r.model.state.mean_polygon_mass)
-                .sum::<f64>()
-                / n;
+            let unit = mean_polygon_mass(&group);
             let summaries: Vec<_> = group.iter().map(|r| r.summary()).collect();
             points.push(Point {
                 stem,

@@ -19,7 +19,9 @@ use std::path::{Path, PathBuf};
 
 use fractum::Run;
 use fractum::Scene;
-use fractum::models::beam2d::{Beam2dRun, averaged_power_law};
+use fractum::models::beam2d::{
+    Beam2dRun, averaged_power_law, mean_polygon_mass, pooled_fragment_masses,
+};
 use fractum::probe::fragments::{fit_power_law, mass_histogram};
 use fractum::shape::polygon::{MAX_VERTICES, Vec2};
 use plotters::prelude::*;
@@ -395,15 +397,8 @@ fn fragmentation(file: &'static str, stem: &str, scan: &mut String) -> Plot {
         fit.exponent, fit.bins, fit.r_squared, fit.range
     );
     // The fit range's influence, on the same averaged histogram.
-    let unit = runs
-        .iter()
-        .map(|r| r.model.state.mean_polygon_mass)
-        .sum::<f64>()
-        / runs.len() as f64;
-    let masses: Vec<f64> = runs
-        .iter()
-        .flat_map(|r| r.model.multi_polygon_fragment_masses())
-        .collect();
+    let unit = mean_polygon_mass(&refs);
+    let masses = pooled_fragment_masses(&refs, 2);
     let bins = mass_histogram(&masses, unit, 4, runs.len());
     print!("Fit range (mean polygon masses) -> beta:");
     for (lo, hi) in [

@@ -50,7 +50,10 @@ use pipeline::PolygonPipeline;
 use scene::Beam2dScene;
 
 pub use explain::explain;
-pub use report::{averaged_power_law, averaged_power_law_by, averaged_power_law_interval};
+pub use report::{
+    averaged_power_law, averaged_power_law_by, averaged_power_law_interval, mean_polygon_mass,
+    pooled_fragment_masses,
+};
 pub use scene::EFFECTS as BEAM2D_EFFECTS;
 
 /// A beam2d run: the generic runner over the beam2d model.

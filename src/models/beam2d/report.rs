@@ -190,16 +190,28 @@ pub fn averaged_power_law_by(
     if runs.is_empty() {
         return None;
     }
-    let unit = runs
-        .iter()
+    spec.fit(
+        &pooled_fragment_masses(runs, polygons),
+        mean_polygon_mass(runs),
+        runs.len(),
+    )
+}
+
+/// The mean polygon mass (kg) over `runs` (NaN for none): the mass unit of their pooled
+/// histogram.
+pub fn mean_polygon_mass(runs: &[&Beam2dRun]) -> f64 {
+    runs.iter()
         .map(|r| r.model.state.mean_polygon_mass)
         .sum::<f64>()
-        / runs.len() as f64;
-    let masses: Vec<f64> = runs
-        .iter()
+        / runs.len() as f64
+}
+
+/// The masses (kg) of the fragments of at least `polygons` polygons of every run in `runs`,
+/// pooled.
+pub fn pooled_fragment_masses(runs: &[&Beam2dRun], polygons: usize) -> Vec<f64> {
+    runs.iter()
         .flat_map(|r| r.model.fragment_masses_from(polygons))
-        .collect();
-    spec.fit(&masses, unit, runs.len())
+        .collect()
 }
 
 /// β's 95% interval over the seeds of [`averaged_power_law`]: 2000 bootstrap resamples of the
