@@ -9,7 +9,7 @@ pub mod gear5;
 
 pub use gear5::Gear5;
 pub use stability::{StepVerdict, adapted_step, step_verdict};
-pub use step_control::StepControl;
+pub use step_control::{MAX_STEPS, StepControl};
 pub use tchamwa_wielgosz::TchamwaWielgosz;
 pub use velocity_verlet::{VelocityVerlet, drift, half_kick, kick_dofs, kick_drift_dofs};
 

@@ -8,9 +8,12 @@ use serde::{Deserialize, Serialize};
 
 use super::stability::{StepVerdict, adapted_step, step_verdict};
 
-/// The most steps a run may have left to its end after a shortening (the limit the runner
-/// holds a plan to; see `crate::run::MAX_STEPS`).
-const MAX_STEPS_LEFT: f64 = 1e9;
+/// The most steps a run may plan to its end: at a microsecond per step (a tiny scene) that is
+/// 17 minutes, at the main job's milliseconds weeks. A scene that asks for more (a step of
+/// 1e-300 s, or a Young's modulus of 1e308 Pa under `time.dt = "auto"`) used to plan
+/// 18446744073709551615 steps and run forever.
+/// A shortened step is held to it too (see [`StepControl::adapt`]).
+pub const MAX_STEPS: f64 = 1e9;
 
 /// A run's step control (see the module's docs). Saved with the model's state: the counters
 /// go on across a checkpoint.
@@ -60,9 +63,7 @@ impl StepControl {
         let new = adapted_step(omega, dt, self.target?)?;
         self.shortened += 1;
         let left = remaining / new;
-        if self.collapsed.is_none()
-            && (left.is_nan() || (left.is_finite() && left > MAX_STEPS_LEFT))
-        {
+        if self.collapsed.is_none() && (left.is_nan() || (left.is_finite() && left > MAX_STEPS)) {
             self.collapsed = Some(format!(
                 "the time step collapsed from {:.3e} s (the first) to {new:.3e} s ({} shortenings, the last from {dt:.3e} s): contacts stiffen faster than the step can follow (highest contact frequency {omega:.3e} rad/s), and the {remaining:.3e} s left to the end of the loading would take {left:.2e} steps, more than the limit of 1e9; the grains or pieces are crushed beyond what the contact law describes: check the sample's shapes and the loading (loading.speed, loading.end_displacement), or give time.dt in seconds",
                 self.first_dt, self.shortened

@@ -62,11 +62,7 @@ impl Clock {
     }
 }
 
-/// The most steps a run may plan to its end: at a microsecond per step (a tiny scene) that is
-/// 17 minutes, at the main job's milliseconds weeks. A scene that asks for more (a step of
-/// 1e-300 s, or a Young's modulus of 1e308 Pa under `time.dt = "auto"`) used to plan
-/// 18446744073709551615 steps and run forever.
-pub const MAX_STEPS: f64 = 1e9;
+pub use crate::integrate::MAX_STEPS;
 
 /// Below this Young's modulus (Pa) a step too long for the loading is the material's fault
 /// (softer than any solid that breaks); above it the loading is too short (a strain rate of

@@ -79,7 +79,7 @@ impl Granular {
         clock: &Clock,
         breaking: &[crate::fracture::Breaking],
     ) -> (usize, Option<f64>) {
-        if breaking.is_empty() || self.state.fracture.is_none() {
+        if breaking.is_empty() {
             return (0, None);
         }
         let before = self.mechanical_energy();
