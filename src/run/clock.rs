@@ -78,7 +78,7 @@ pub const MIN_STEPS: f64 = 2.0;
 /// [`MAX_STEPS`] steps, naming `time.dt`; an endless loading (driven from outside) passes.
 /// `young` is the model's `material.young` (Pa), which the critical step scales with as
 /// 1/√young in every model: the messages name it when it is at fault.
-pub fn check_planned_steps(scene: &Scene, young: f64, end_time: f64, dt: f64) -> Result<()> {
+fn check_planned_steps(scene: &Scene, young: f64, end_time: f64, dt: f64) -> Result<()> {
     if end_time.is_infinite() && end_time > 0.0 {
         return Ok(());
     }
