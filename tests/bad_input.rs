@@ -1270,3 +1270,110 @@ fn a_packing_file_body_outside_its_box_is_refused_naming_it() {
         &["sample.box", "does not hold body 2"],
     );
 }
+
+#[test]
+fn sleeves_that_do_not_fit_their_sample_are_refused_naming_the_key() {
+    let base = base();
+    // The sleeve is the cylinder inscribed in the box's x-y section: x and y must be equal.
+    let t = replace(&base, "[loading]", "[walls]\nsleeve = true\n[loading]");
+    fails(
+        &replace(&t, "box = [3e-3, 3e-3, 3e-3]", "box = [3e-3, 2e-3, 3e-3]"),
+        &[],
+        &["sample.box", "x and y edges must be equal"],
+    );
+    // Its friction without it.
+    fails(
+        &replace(
+            &base,
+            "[loading]",
+            "[walls]\nsleeve_friction = 0.3\n[loading]",
+        ),
+        &[],
+        &["walls.sleeve_friction", "walls.sleeve = true only"],
+    );
+    fails(
+        &replace(
+            &t,
+            "[walls]\nsleeve = true",
+            "[walls]\nsleeve = true\nsleeve_friction = -1",
+        ),
+        &[],
+        &["walls.sleeve_friction", "-1"],
+    );
+    // Compaction to a pressure moves the side faces the sleeve replaces.
+    fails(
+        &replace(
+            &t,
+            "solid_fraction = 0.5",
+            "solid_fraction = 0.5\npressure = 1e5",
+        ),
+        &[],
+        &["sample.pressure", "walls.sleeve = true"],
+    );
+    // Grains that are not placed in it or read into it.
+    fails(
+        &replace(
+            &std::fs::read_to_string(common::repo().join("scenes/crush_grain.toml")).unwrap(),
+            "[loading]",
+            "[walls]\nsleeve = true\n[loading]",
+        ),
+        &[],
+        &["walls.sleeve", "sample.kind = \"single\""],
+    );
+}
+
+#[test]
+fn a_grain_outside_the_sleeve_or_too_large_for_it_is_refused_at_build() {
+    let text = r#"
+name = "outside"
+effects = ["contact"]
+[material]
+young = 60e9
+poisson = 0.17
+density = 2650.0
+[sample]
+kind = "text"
+file = "packing.txt"
+box = [2e-3, 2e-3, 2e-3]
+[walls]
+sleeve = true
+[loading]
+kind = "none"
+end_time = 1e-6
+"#;
+    // Two spheres in a 2 mm box: the second in a corner, outside the inscribed cylinder;
+    // then one sphere longer than the sleeve is wide.
+    for (packing, wanted) in [
+        (
+            "1.0e-3 1.0e-3 1.0e-3 0.2e-3\n1.8e-3 1.8e-3 1.0e-3 0.15e-3\n",
+            ["body 2", "outside the sleeve"],
+        ),
+        (
+            "1.0e-3 1.0e-3 1.0e-3 1.05e-3\n",
+            ["wider than the largest grain", "2.100e-3 m"],
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("packing.txt"), packing).unwrap();
+        let file = dir.path().join("scene.toml");
+        std::fs::write(&file, text).unwrap();
+        let out = dir.path().join("out");
+        let o = common::fractum(
+            dir.path(),
+            &[
+                "run",
+                file.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+                "--quiet",
+            ],
+        );
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{stderr}");
+        assert_eq!(stderr.lines().count(), 1, "{stderr}");
+        for w in ["walls.sleeve"].iter().chain(wanted.iter()) {
+            assert!(stderr.contains(w), "mentions `{w}`: {stderr}");
+        }
+        assert!(!out.exists());
+    }
+}

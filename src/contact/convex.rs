@@ -692,5 +692,117 @@ pub fn wall_contact(
     })
 }
 
+/// The Hertz equivalent radius (m) of a body against the inside of a cylinder of radius
+/// `radius` (m), from the body's tensor of principal radii of curvature at the contact point
+/// (the support Hessian on the tangent plane), of determinant `det_h` (m²), whose component
+/// along the cylinder's hoop direction is `h_hoop` (m).
+///
+/// The relative curvature is the body's `H⁻¹` plus the concave cylinder's `-1/R` along the
+/// hoop (0 along the axis); its determinant is `(1 - h_hoop/R) / det H`, so
+/// `r_eff = sqrt(det H / (1 - h_hoop/R))`: for a sphere of radius r, `r / sqrt(1 - r/R)`. A
+/// body as flat as the sleeve along the hoop (`h_hoop >= R`) meets it over a band, not at a
+/// point, and Hertz's law no longer holds: the radius is then taken as the sleeve's, as it is
+/// wherever the formula would exceed it (a sphere above 0.62 R; the scene refuses sleeves
+/// narrower than two of its largest grains).
+#[inline]
+pub fn sleeve_hertz_radius(det_h: f64, h_hoop: f64, radius: f64) -> f64 {
+    let f = 1.0 - h_hoop / radius;
+    if f > 0.0 {
+        (det_h / f).sqrt().min(radius)
+    } else {
+        radius
+    }
+}
+
+/// Fixed-point iterations of [`sleeve_contact`] at most.
+pub const SLEEVE_ITERATIONS: u32 = 30;
+
+/// Contact of body A with the inside of a rigid circular cylinder (a sleeve) of radius
+/// `radius` whose axis runs along z through `centre`, or `None` when A is clear of it.
+///
+/// The deepest point of A is the one farthest from the axis; there A's outward normal is the
+/// radial direction `e` of the point itself, so it is the support point `s_A(e)` at its own
+/// radial direction: found by the fixed-point iteration `e ← radial(s_A(e))/|radial(s_A(e))|`
+/// from the centroid's radial direction, which contracts by about A's radius of curvature over
+/// the sleeve's (a few hundredths for sand in a specimen's sleeve) and stops when `e` moves
+/// by less than 1e-12 (or after [`SLEEVE_ITERATIONS`]). Then `depth = |radial(s_A(e))| - R`,
+/// the normal is `-e` (into the sleeve's inside), `point_b` the foot on the cylinder, and the
+/// Hertz radius is [`sleeve_hertz_radius`] of A's curvature there (axis and hoop as tangents).
+/// A sphere is closed form.
+pub fn sleeve_contact(a: &Placed, centre: &Vector3<f64>, radius: f64) -> Option<ContactGeometry> {
+    let radial = |x: &Vector3<f64>| Vector3::new(x.x - centre.x, x.y - centre.y, 0.0);
+    let (e, point_a, rho, r_eff, iterations) = match a.shape {
+        ConvexShape::Sphere { radius: r } => {
+            let d = radial(&a.origin);
+            let rho = d.norm();
+            if at_most_zero(rho) {
+                // On the axis (or not finite): in a sleeve wider than the sphere, clear of it.
+                return None;
+            }
+            let e = d / rho;
+            let r_eff = sleeve_hertz_radius(r * r, r, radius);
+            (e, a.origin + e * r, rho + r, r_eff, 0)
+        }
+        ConvexShape::PolyEllipsoid(pe) => {
+            let d = radial(&a.centroid());
+            let mut e = if d.norm_squared() > 0.0 {
+                d.normalize()
+            } else {
+                Vector3::x()
+            };
+            let mut iterations = 0;
+            let (point, probe, m) = loop {
+                let m = a.rot.tr_mul(&e);
+                let probe = pe.support_at(&m);
+                let point = a.origin + a.rot * probe.point;
+                let r = radial(&point);
+                let rho = r.norm();
+                if at_most_zero(rho) {
+                    return None;
+                }
+                let next = r / rho;
+                let moved = (next - e).norm();
+                if moved <= 1e-12 || iterations >= SLEEVE_ITERATIONS {
+                    break (point, probe, m);
+                }
+                e = next;
+                iterations += 1;
+            };
+            let rho = radial(&point).norm();
+            if at_most_zero(rho - radius) {
+                return None;
+            }
+            // The curvature at the support point of `e`: tangents along the axis and the hoop.
+            let axis = a.rot.tr_mul(&Vector3::z());
+            let hoop = a.rot.tr_mul(&Vector3::z().cross(&e));
+            debug_assert!(m.dot(&axis).abs() < 1e-9);
+            let h = probe.tangent_hessian(&axis, &hoop);
+            let det = h[0] * h[2] - h[1] * h[1];
+            (
+                e,
+                point,
+                rho,
+                sleeve_hertz_radius(det, h[2], radius),
+                iterations,
+            )
+        }
+    };
+    let depth = rho - radius;
+    if at_most_zero(depth) {
+        return None;
+    }
+    let normal = -e;
+    let point_b = point_a + depth * normal;
+    Some(ContactGeometry {
+        normal,
+        depth,
+        point: 0.5 * (point_a + point_b),
+        point_a,
+        point_b,
+        r_eff,
+        iterations,
+    })
+}
+
 #[cfg(test)]
 mod tests;

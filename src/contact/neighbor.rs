@@ -211,7 +211,9 @@ pub struct WallLists {
 impl WallLists {
     /// True when some wall has moved more than skin / 2 along its normal since the last build.
     pub fn needs_rebuild(&self, walls: &Walls, skin: f64) -> bool {
-        if self.ref_points.len() != walls.len() {
+        if self.ref_points.len() != walls.len()
+            || self.candidates.len() != walls.len() + usize::from(walls.sleeve.is_some())
+        {
             return true;
         }
         walls
@@ -221,18 +223,28 @@ impl WallLists {
             .any(|(w, p)| (w.point - p).dot(&w.normal).abs() > 0.5 * skin)
     }
 
-    /// Rebuilds the candidate lists. Valid while bodies move less than skin / 2 and walls
-    /// less than skin / 2 along their normals.
+    /// Rebuilds the candidate lists: one per wall (empty for a wall that touches nothing,
+    /// [`Walls::touches`]), then one for the sleeve if there is one (it never moves). Valid
+    /// while bodies move less than skin / 2 and walls less than skin / 2 along their normals.
     pub fn build(&mut self, walls: &Walls, pos: &[Vec3], radius: &[f64], skin: f64) {
+        let near = |distance: &dyn Fn(&Vec3) -> f64| -> Vec<u32> {
+            (0..pos.len())
+                .filter(|&i| distance(&pos[i]) < radius[i] + skin)
+                .map(|i| i as u32)
+                .collect()
+        };
         self.candidates = walls
             .walls
             .iter()
-            .map(|w| {
-                (0..pos.len())
-                    .filter(|&i| w.distance(&pos[i]) < radius[i] + skin)
-                    .map(|i| i as u32)
-                    .collect()
+            .enumerate()
+            .map(|(k, w)| {
+                if walls.touches(k) {
+                    near(&|x| w.distance(x))
+                } else {
+                    Vec::new()
+                }
             })
+            .chain(walls.sleeve.iter().map(|s| near(&|x| s.distance(x))))
             .collect();
         self.ref_points = walls.walls.iter().map(|w| w.point).collect();
         self.builds += 1;

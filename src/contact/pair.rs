@@ -13,7 +13,7 @@ use nalgebra::{Matrix3, UnitQuaternion};
 use super::convex::{self, Placed};
 use super::hertz_mindlin::{ContactForce, KernelConsts, hertz_mindlin};
 use crate::shape::Shape;
-use crate::state::{Bodies, Body, Vec3, plane_distance, shape_placement};
+use crate::state::{Bodies, Body, Sleeve, Vec3, plane_distance, radial, shape_placement};
 /// One contact's force on body i (the first body of a pair; the body against a wall) and the
 /// torques on i and j, and what a record keeps of it. j receives the opposite force.
 #[derive(Debug, Clone, Copy, Default)]
@@ -409,15 +409,49 @@ pub fn wall_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
         let delta = r - plane_distance(wall_point, &n, &a.pos());
         (n * (delta - r), delta, r)
     };
+    surface_force::<DAMP, FRIC, POLY>(
+        k,
+        a,
+        &n,
+        lever,
+        delta,
+        r_eff,
+        wall_velocity,
+        hist,
+        held,
+        dt,
+        update,
+    )
+}
+
+/// The force of a rigid surface (a wall, the sleeve) moving at `surface_velocity` on body a,
+/// touching it at `lever` from its centre with overlap `delta` along the unit normal `n` (out
+/// of the surface) and Hertz radius `r_eff`, or None (the memory forgotten) when `delta <= 0`:
+/// the Hertz–Mindlin law and the torque, shared by [`wall_contact`] and [`sleeve_contact`].
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn surface_force<const DAMP: bool, const FRIC: bool, const POLY: bool>(
+    k: &KernelConsts,
+    a: &impl ContactBody,
+    n: &Vec3,
+    lever: Vec3,
+    delta: f64,
+    r_eff: f64,
+    surface_velocity: &Vec3,
+    hist: &mut Vec3,
+    held: &mut f64,
+    dt: f64,
+    update: bool,
+) -> Option<PairOut> {
     if delta <= 0.0 {
         forget(hist, held, FRIC, POLY);
         return None;
     }
-    let mut v = a.vel() - wall_velocity;
+    let mut v = a.vel() - surface_velocity;
     if FRIC || POLY {
         v += a.omega().cross(&lever);
     }
-    let c = hertz_mindlin::<DAMP, FRIC>(k, &n, delta, r_eff, a.mass(), &v, hist, dt, update);
+    let c = hertz_mindlin::<DAMP, FRIC>(k, n, delta, r_eff, a.mass(), &v, hist, dt, update);
     Some(PairOut {
         force: c.force,
         torque_i: if FRIC || POLY {
@@ -427,9 +461,67 @@ pub fn wall_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
         },
         torque_j: Vec3::zeros(),
         point: a.pos() + lever,
-        normal: n,
+        normal: *n,
         c: ContactOut::from(&c),
     })
+}
+
+/// True when the bounding sphere of a body at `pos` (radius `r`, m) does not reach the
+/// sleeve: then [`sleeve_contact`] finds no contact and only [`forget`]s.
+#[inline(always)]
+pub fn bound_off_sleeve(pos: &Vec3, r: f64, sleeve: &Sleeve) -> bool {
+    sleeve.distance(pos) >= r
+}
+
+/// The force of the sleeve (fixed, its axis along z) on body a, or None when they do not
+/// touch: the per-candidate kernel of the contact effect's sleeve loop (with `POLY` a
+/// poly-ellipsoid's contact by [`convex::sleeve_contact`], the Hertz radius held in `held`;
+/// else the sphere's closed form, its Hertz radius that of a sphere in a concave cylinder,
+/// [`convex::sleeve_hertz_radius`]). `hist` is the candidate's tangential displacement (FRIC).
+/// The sleeve receives the opposite force.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub fn sleeve_contact<const DAMP: bool, const FRIC: bool, const POLY: bool>(
+    k: &KernelConsts,
+    a: &impl ContactBody,
+    sleeve: &Sleeve,
+    hist: &mut Vec3,
+    held: &mut f64,
+    dt: f64,
+    update: bool,
+) -> Option<PairOut> {
+    let r = a.radius();
+    let (n, lever, delta, r_eff) = if POLY && !a.is_sphere() {
+        match convex::sleeve_contact(&a.placed(), &sleeve.centre, sleeve.radius) {
+            Some(g) => (
+                g.normal,
+                g.point - a.pos(),
+                g.depth,
+                held_radius(held, g.r_eff),
+            ),
+            None => (Vec3::zeros(), Vec3::zeros(), 0.0, 0.0),
+        }
+    } else {
+        let d = radial(&sleeve.centre, &a.pos());
+        let rho = d.norm();
+        let e = if rho > 0.0 { d / rho } else { Vec3::x() };
+        let delta = rho + r - sleeve.radius;
+        let r_eff = convex::sleeve_hertz_radius(r * r, r, sleeve.radius);
+        (-e, e * (r - delta), delta, r_eff)
+    };
+    surface_force::<DAMP, FRIC, POLY>(
+        k,
+        a,
+        &n,
+        lever,
+        delta,
+        r_eff,
+        &Vec3::zeros(),
+        hist,
+        held,
+        dt,
+        update,
+    )
 }
 
 /// How far a body of bounding radius `radius` (m) may have moved, at most, from pose

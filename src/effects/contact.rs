@@ -42,6 +42,9 @@ pub struct ContactParams {
     pub mindlin: Option<Mindlin>,
     /// Friction coefficient against walls (default: that of `mindlin`).
     pub wall_friction: Option<f64>,
+    /// Friction coefficient against the sleeve (default: `wall_friction`, else that of
+    /// `mindlin`).
+    pub sleeve_friction: Option<f64>,
     /// Verlet skin (m); `None`: 0.4 × the smallest radius, chosen at the first build.
     pub skin: Option<f64>,
     /// Bodies other than spheres may take part (poly-ellipsoids): build the `POLY` variant,
@@ -123,6 +126,8 @@ pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
     k: KernelConsts,
     /// Constants against walls (their own friction coefficient).
     k_wall: KernelConsts,
+    /// Constants against the sleeve (its own friction coefficient).
+    k_sleeve: KernelConsts,
     pairs: PairList,
     wall_lists: WallLists,
     /// Tangential displacement per pair slot (empty without friction).
@@ -173,9 +178,22 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             params.damping.as_ref(),
             wall_mindlin.as_ref(),
         );
+        let sleeve_mindlin = params.mindlin.map(|m| Mindlin {
+            mu: params
+                .sleeve_friction
+                .or(params.wall_friction)
+                .unwrap_or(m.mu),
+            ..m
+        });
+        let k_sleeve = KernelConsts::new(
+            &params.hertz,
+            params.damping.as_ref(),
+            sleeve_mindlin.as_ref(),
+        );
         HertzContact {
             k,
             k_wall,
+            k_sleeve,
             pairs: PairList::new(params.skin.unwrap_or(0.0)),
             params,
             wall_lists: WallLists::default(),

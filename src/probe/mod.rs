@@ -9,7 +9,7 @@ pub mod spectrum;
 
 use serde::{Deserialize, Serialize};
 
-use crate::state::{Bodies, BoxFace, Walls};
+use crate::state::{Bodies, BoxFace, SLEEVE_SLICES, Walls};
 
 /// A table of measurements, one row per output step.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
@@ -77,6 +77,33 @@ pub const BOX_COLUMNS: [&str; 10] = [
     "solid_fraction",
 ];
 
+/// Columns added with a sleeve (after the box's, whose lateral stresses are then the sleeve's
+/// mean radial stress): the axial force the sleeve takes from the grains by friction (N,
+/// along +z: the driven top face pushes the grains down against it), and the radial stress
+/// (Pa) on each of its [`SLEEVE_SLICES`] axial slices, from the opposite (z-) face up to the
+/// driven (z+) one.
+pub const SLEEVE_COLUMNS: [&str; 1 + SLEEVE_SLICES] = [
+    "sleeve_axial_force",
+    "stress_radial_1",
+    "stress_radial_2",
+    "stress_radial_3",
+    "stress_radial_4",
+    "stress_radial_5",
+    "stress_radial_6",
+    "stress_radial_7",
+    "stress_radial_8",
+    "stress_radial_9",
+    "stress_radial_10",
+];
+
+/// The sleeve's columns of one row ([`SLEEVE_COLUMNS`]).
+pub fn sleeve_row(walls: &Walls, row: &mut Vec<f64>) {
+    if let Some(s) = &walls.sleeve {
+        row.push(s.force.z);
+        row.extend_from_slice(&s.radial_profile(walls.box_size().z));
+    }
+}
+
 /// Columns when there is no box: time, kinetic energy and contacts.
 pub const FREE_COLUMNS: [&str; 3] = ["time", "kinetic_energy", "contacts"];
 
@@ -123,7 +150,7 @@ pub fn platen_row(
         walls.face(BoxFace::ZMin).normal_force(),
         bodies.kinetic_energy(),
         contacts as f64,
-        walls.walls.iter().map(|w| w.contacts).sum::<usize>() as f64,
+        walls.contacts() as f64,
     ]
 }
 
@@ -146,8 +173,8 @@ pub fn box_row(
         lateral(BoxFace::YMin, BoxFace::YMax),
         bodies.kinetic_energy(),
         contacts as f64,
-        walls.walls.iter().map(|w| w.contacts).sum::<usize>() as f64,
-        bodies.solid_volume() / (size.x * size.y * size.z),
+        walls.contacts() as f64,
+        bodies.solid_volume() / walls.volume(),
     ]
 }
 

@@ -81,6 +81,7 @@ pub fn compact_to_pressure(
         damping: Some(ViscousDamping::from_restitution(0.3)),
         mindlin: (friction > 0.0).then(|| Mindlin::new(spec.young, spec.poisson, friction)),
         wall_friction: None,
+        sleeve_friction: None,
         skin: spec.skin,
         shapes: bodies.shape.iter().any(|s| !s.is_sphere()),
     };
@@ -242,14 +243,12 @@ impl Compactor {
     /// Mean stress per axis and the unbalanced force ratio: mean net force on a body over the
     /// mean contact force, estimated from the pressure as `3 p V / (N_c 2 r̄)`.
     fn measure(&self, bodies: &Bodies, walls: &Walls) -> CompactionReport {
-        let size = walls.box_size();
-        let volume = size.x * size.y * size.z;
+        let volume = walls.volume();
         let mut stresses = [0.0; 3];
         for (a, (lo, hi)) in AXES.iter().enumerate() {
             stresses[a] = 0.5 * (walls.face_stress(*lo) + walls.face_stress(*hi));
         }
-        let contacts =
-            self.contact.contacts() + walls.walls.iter().map(|w| w.contacts).sum::<usize>();
+        let contacts = self.contact.contacts() + walls.contacts();
         let mean_contact =
             3.0 * self.pressure * volume / (contacts.max(1) as f64 * 2.0 * self.mean_r);
         let mean_net =
@@ -361,6 +360,7 @@ pub fn compact_to_fraction(
         mindlin: (spec.friction > 0.0)
             .then(|| Mindlin::new(spec.young, spec.poisson, spec.friction)),
         wall_friction: None,
+        sleeve_friction: None,
         skin: spec.skin,
         shapes,
     };
@@ -373,7 +373,7 @@ pub fn compact_to_fraction(
     let dt = 0.2 * rayleigh_time_step(smallest, spec.density, spec.young, spec.poisson);
     let solid = bodies.solid_volume();
     let target = spec.size;
-    let target_fraction = solid / (target.x * target.y * target.z);
+    let target_fraction = solid / walls.volume_of(target);
     let modulus = spec.young / (1.0 - spec.poisson.powi(2));
     let (fill_pressure, jam_pressure) = (
         spec.pressures_per_modulus.0 * modulus,
@@ -459,7 +459,7 @@ pub fn compact_to_fraction(
         let mean_speed = bodies.vel.iter().map(|v| v.norm()).sum::<f64>() / bodies.len() as f64;
         let settled = waited >= CHECK_EVERY && mean_speed < SETTLED_SPEED * wall_speed;
         let now = walls.box_size();
-        let fraction = solid / (now.x * now.y * now.z);
+        let fraction = solid / walls.volume_of(now);
         if c.steps % (50 * CHECK_EVERY) == 0 {
             progress(&format!(
                 "compacting: step {}, solid fraction {fraction:.4}, mean stress {mean_stress:.3e} Pa",

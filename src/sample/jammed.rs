@@ -104,8 +104,7 @@ pub enum JammedShort {
 }
 
 fn fraction_of(bodies: &Bodies, walls: &Walls) -> f64 {
-    let s = walls.box_size();
-    bodies.solid_volume() / (s.x * s.y * s.z)
+    bodies.solid_volume() / walls.volume()
 }
 
 /// Prepares the bodies (placed loose in the box `walls`) as a jammed sample at
@@ -118,14 +117,17 @@ pub fn compact_jammed(
 ) -> Result<std::result::Result<JammedReport, JammedShort>> {
     let size = walls.box_size();
     let loose = LOOSE_FRACTION.min(spec.fraction);
-    let scale = (fraction_of(bodies, walls) / loose).cbrt().min(1.0);
+    // The loose sample's box: the faces close in alike in all directions, or in a sleeve
+    // along its axis only.
+    let ratio = (fraction_of(bodies, walls) / loose).min(1.0);
+    let loose_size = walls.resized(size, ratio);
     let soft = spec.young * SEARCH_STIFFNESS;
     let fill = FractionSpec {
         young: soft,
         poisson: spec.poisson,
         density: spec.density,
         skin: spec.skin,
-        size: size * scale,
+        size: loose_size,
         friction: 0.0,
         pressures_per_modulus: FractionSpec::DEFAULT_PRESSURES,
         search: false,
@@ -141,7 +143,12 @@ pub fn compact_jammed(
     // Each try compresses the loose sample with friction mu towards a box the grains could
     // never fill (solid fraction 0.9) and stops where they jam: at rest, carrying the jamming
     // pressure.
-    let dense = size * (fraction_of(bodies, walls) / 0.9).cbrt() * scale;
+    let to_dense = fraction_of(bodies, walls) / 0.9;
+    let dense = match walls.sleeve {
+        Some(_) => walls.resized(loose_size, to_dense),
+        // As the loose box was made (the same bits as before the sleeve existed).
+        None => size * to_dense.cbrt() * ratio.cbrt(),
+    };
     let attempt = |mu: f64| -> Result<(Bodies, Walls, f64, u64)> {
         let (mut b, mut w) = start.clone();
         let c = FractionSpec {

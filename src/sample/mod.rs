@@ -37,7 +37,7 @@ pub use jammed::{
 };
 pub use lattice::{hcp_positions, simple_cubic_positions};
 
-pub use random_pack::{PackReport, pack_geometric};
+pub use random_pack::{PackReport, pack_geometric, pack_geometric_in_sleeve};
 
 /// What a generator made, for the summary.
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]

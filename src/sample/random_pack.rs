@@ -49,16 +49,92 @@ pub fn pack_geometric(
     hi: Vec3,
     rng: &mut ChaCha8Rng,
 ) -> Result<(Vec<Vec3>, PackReport), Jammed> {
+    pack(
+        radii,
+        Domain {
+            lo,
+            hi,
+            sleeve: false,
+        },
+        rng,
+    )
+}
+
+/// Places spheres of `radii` without overlaps in the sleeve inscribed in the box [lo, hi]
+/// (a cylinder along z whose diameter is the box's x edge, equal to its y edge).
+pub fn pack_geometric_in_sleeve(
+    radii: &[f64],
+    lo: Vec3,
+    hi: Vec3,
+    rng: &mut ChaCha8Rng,
+) -> Result<(Vec<Vec3>, PackReport), Jammed> {
+    pack(
+        radii,
+        Domain {
+            lo,
+            hi,
+            sleeve: true,
+        },
+        rng,
+    )
+}
+
+/// Where the spheres go: the box [lo, hi], and with `sleeve` only its inscribed cylinder
+/// along z.
+#[derive(Debug, Clone, Copy)]
+struct Domain {
+    lo: Vec3,
+    hi: Vec3,
+    sleeve: bool,
+}
+
+impl Domain {
+    fn centre(&self) -> Vec3 {
+        0.5 * (self.lo + self.hi)
+    }
+
+    fn radius(&self) -> f64 {
+        0.5 * (self.hi.x - self.lo.x)
+    }
+
+    /// How far a sphere of radius `r` at `p` reaches through the sleeve (m; <= 0: inside),
+    /// and the unit radial direction at `p`.
+    fn sleeve_excess(&self, p: &Vec3, r: f64) -> (f64, Vec3) {
+        let d = crate::state::radial(&self.centre(), p);
+        let rho = d.norm();
+        let e = if rho > 0.0 { d / rho } else { Vec3::x() };
+        (rho + r - self.radius(), e)
+    }
+}
+
+fn pack(
+    radii: &[f64],
+    domain: Domain,
+    rng: &mut ChaCha8Rng,
+) -> Result<(Vec<Vec3>, PackReport), Jammed> {
+    let Domain { lo, hi, .. } = domain;
     let size = hi - lo;
     let mut pos: Vec<Vec3> = radii
         .iter()
         .map(|&r| {
-            let u = Vec3::new(rng.random(), rng.random(), rng.random());
-            lo + Vec3::repeat(r) + (size - Vec3::repeat(2.0 * r)).component_mul(&u)
+            loop {
+                let u = Vec3::new(rng.random(), rng.random(), rng.random());
+                let p = lo + Vec3::repeat(r) + (size - Vec3::repeat(2.0 * r)).component_mul(&u);
+                // In a sleeve, drawn again until inside it (at most 1 - π/4 of the draws miss).
+                if !domain.sleeve || domain.sleeve_excess(&p, r).0 <= 0.0 {
+                    break p;
+                }
+            }
         })
         .collect();
     let solid: f64 = radii.iter().map(|&r| crate::shape::sphere_volume(r)).sum();
-    let phi = solid / (size.x * size.y * size.z);
+    let volume = size.x * size.y * size.z;
+    let phi = solid
+        / if domain.sleeve {
+            0.25 * std::f64::consts::PI * volume
+        } else {
+            volume
+        };
     let mut scale = (0.2 / phi).cbrt().min(1.0);
     let mut settled = scale;
     let mut growth = GROWTH_FACTOR;
@@ -73,13 +149,13 @@ pub fn pack_geometric(
         let mut converged = false;
         for _ in 0..budget {
             sweeps += 1;
-            if relax_sweep(&mut pos, radii, scale, lo, hi) < tol {
+            if relax_sweep(&mut pos, radii, scale, &domain) < tol {
                 converged = true;
                 break;
             }
         }
         if converged && last {
-            let left = max_overlap(&pos, radii, lo, hi);
+            let left = overlap_left(&pos, radii, &domain);
             if left < tol {
                 return Ok((
                     pos,
@@ -109,7 +185,8 @@ pub fn pack_geometric(
 
 /// One Gauss–Seidel sweep pushing apart overlapping pairs of spheres with radii
 /// `scale * radii`; returns the largest overlap met, relative to the smaller radius.
-fn relax_sweep(pos: &mut [Vec3], radii: &[f64], scale: f64, lo: Vec3, hi: Vec3) -> f64 {
+fn relax_sweep(pos: &mut [Vec3], radii: &[f64], scale: f64, domain: &Domain) -> f64 {
+    let Domain { lo, hi, .. } = *domain;
     let rmax = radii.iter().copied().fold(0.0, f64::max) * scale;
     let grid = CellGrid::new(pos, 2.0 * rmax);
     let mut worst = 0.0_f64;
@@ -158,8 +235,27 @@ fn relax_sweep(pos: &mut [Vec3], radii: &[f64], scale: f64, lo: Vec3, hi: Vec3) 
                 pos[i][a] -= above;
             }
         }
+        if domain.sleeve {
+            let (excess, e) = domain.sleeve_excess(&pos[i], ri);
+            if excess > 0.0 {
+                worst = worst.max(excess / ri);
+                pos[i] -= e * excess;
+            }
+        }
     }
     worst
+}
+
+/// [`max_overlap`] in `domain`, the sleeve included.
+fn overlap_left(pos: &[Vec3], radii: &[f64], domain: &Domain) -> f64 {
+    let worst = max_overlap(pos, radii, domain.lo, domain.hi);
+    if !domain.sleeve {
+        return worst;
+    }
+    pos.iter()
+        .zip(radii)
+        .map(|(p, &r)| domain.sleeve_excess(p, r).0 / r)
+        .fold(worst, f64::max)
 }
 
 /// Largest overlap (relative to the smaller radius) between spheres or with the box.

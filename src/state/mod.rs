@@ -11,7 +11,7 @@ use serde::{Deserialize, Serialize};
 use crate::parallel::{on_team, team_blocks};
 use crate::shape::{self, PolyEllipsoid, Shape};
 
-pub use walls::{BoxFace, Wall, Walls, plane_distance};
+pub use walls::{BoxFace, SLEEVE_SLICES, Sleeve, Wall, Walls, plane_distance, radial};
 
 pub type Vec3 = Vector3<f64>;
 

@@ -1,4 +1,4 @@
-//! Rigid planar walls and moving platens.
+//! Rigid planar walls and moving platens, and the sleeve: a rigid cylinder around the sample.
 
 use serde::{Deserialize, Serialize};
 
@@ -76,11 +76,92 @@ impl BoxFace {
     ];
 }
 
+/// Axial slices of the sleeve over which its radial stress is resolved along the axis.
+pub const SLEEVE_SLICES: usize = 10;
+
+/// A rigid, fixed circular cylinder whose inside holds the bodies: the steel sleeve that
+/// confines an SHPB specimen laterally. Its axis runs along z through `centre`; a box's two z
+/// faces close it at either end (the bars' faces).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Sleeve {
+    /// A point of the axis (m); its z is not used.
+    pub centre: Vec3,
+    /// Inner radius (m).
+    pub radius: f64,
+    /// Force exerted by the bodies on the sleeve during the last step (N): the radial parts
+    /// cancel round the axis; the axial part is what the sleeve's friction holds.
+    pub force: Vec3,
+    /// Sum of the contacts' normal (radial) forces on the sleeve during the last step (N),
+    /// compression positive.
+    pub load: f64,
+    /// `load` by axial slice: [`SLEEVE_SLICES`] equal slices of the span between the box's
+    /// two z faces, from z- up; a contact counts in the slice of its contact point (N).
+    pub slices: [f64; SLEEVE_SLICES],
+    /// Sum of the normal contact stiffnesses on the sleeve during the last step (N/m).
+    pub stiffness: f64,
+    /// Number of bodies touching the sleeve during the last step.
+    pub contacts: usize,
+}
+
+impl Sleeve {
+    /// The sleeve inscribed in the x–y section of the box `[lo, hi]` (whose x and y edges are
+    /// equal): the diameter its x edge, the axis through the section's centre.
+    pub fn inscribed(lo: Vec3, hi: Vec3) -> Self {
+        Sleeve {
+            centre: 0.5 * (lo + hi),
+            radius: 0.5 * (hi.x - lo.x),
+            force: Vec3::zeros(),
+            load: 0.0,
+            slices: [0.0; SLEEVE_SLICES],
+            stiffness: 0.0,
+            contacts: 0,
+        }
+    }
+
+    /// Distance from `x` to the sleeve's surface (m), positive inside.
+    #[inline]
+    pub fn distance(&self, x: &Vec3) -> f64 {
+        self.radius - radial(&self.centre, x).norm()
+    }
+
+    /// Mean radial (normal) stress on the sleeve (Pa) over its wetted length `height` (m):
+    /// the summed normal forces over the inner area `2 π R h`.
+    pub fn radial_stress(&self, height: f64) -> f64 {
+        self.load / (2.0 * std::f64::consts::PI * self.radius * height)
+    }
+
+    /// The radial stress of each axial slice (Pa), from z- up, over the span `height` (m).
+    pub fn radial_profile(&self, height: f64) -> [f64; SLEEVE_SLICES] {
+        let area = 2.0 * std::f64::consts::PI * self.radius * height / SLEEVE_SLICES as f64;
+        self.slices.map(|f| f / area)
+    }
+
+    fn clear_forces(&mut self) {
+        self.force = Vec3::zeros();
+        self.load = 0.0;
+        self.slices = [0.0; SLEEVE_SLICES];
+        self.stiffness = 0.0;
+        self.contacts = 0;
+    }
+}
+
+/// The part of `x - centre` across the z axis (m): from the sleeve's axis to `x`.
+#[inline(always)]
+pub fn radial(centre: &Vec3, x: &Vec3) -> Vec3 {
+    Vec3::new(x.x - centre.x, x.y - centre.y, 0.0)
+}
+
 #[derive(Debug, Clone, Default, Serialize, Deserialize)]
 pub struct Walls {
     pub walls: Vec<Wall>,
     /// True when `walls` are the six faces of a box, in [`BoxFace`] order.
     pub is_box: bool,
+    /// The sleeve, when the scene asks for one (`walls.sleeve`): it confines the sample
+    /// laterally in place of the box's four side faces, which then touch nothing (they stay,
+    /// tangent to it, as the box's extent). Not saved with a sample or a state: it is the
+    /// scene's, made from it at every build and restore ([`Walls::add_sleeve`]).
+    #[serde(skip)]
+    pub sleeve: Option<Sleeve>,
 }
 
 impl Walls {
@@ -97,7 +178,56 @@ impl Walls {
         Walls {
             walls,
             is_box: true,
+            sleeve: None,
         }
+    }
+
+    /// Puts the sleeve inscribed in the box's x–y section around the sample (the box's x and y
+    /// edges are equal: the scene's checks see to it).
+    pub fn add_sleeve(&mut self) {
+        debug_assert!(self.is_box);
+        let lo = Vec3::new(
+            self.face(BoxFace::XMin).point.x,
+            self.face(BoxFace::YMin).point.y,
+            self.face(BoxFace::ZMin).point.z,
+        );
+        self.sleeve = Some(Sleeve::inscribed(lo, lo + self.box_size()));
+    }
+
+    /// Whether wall `w` can touch a body: with a sleeve, the box's four side faces cannot.
+    #[inline]
+    pub fn touches(&self, w: usize) -> bool {
+        self.sleeve.is_none() || w >= BoxFace::ZMin as usize
+    }
+
+    /// The volume (m³) a box of edges `size` holds: with a sleeve, the cylinder inscribed in
+    /// its x–y section.
+    pub fn volume_of(&self, size: Vec3) -> f64 {
+        match self.sleeve {
+            Some(_) => 0.25 * std::f64::consts::PI * size.x * size.y * size.z,
+            None => size.x * size.y * size.z,
+        }
+    }
+
+    /// Bodies touching a wall or the sleeve during the last step (a body counts once per
+    /// wall it touches).
+    pub fn contacts(&self) -> usize {
+        self.walls.iter().map(|w| w.contacts).sum::<usize>()
+            + self.sleeve.as_ref().map_or(0, |s| s.contacts)
+    }
+
+    /// The size of a box of edges `size` (m) changed to hold `ratio` times its volume: alike
+    /// in all directions, or with a sleeve along its axis only (the sleeve stays).
+    pub fn resized(&self, size: Vec3, ratio: f64) -> Vec3 {
+        match self.sleeve {
+            Some(_) => Vec3::new(size.x, size.y, size.z * ratio),
+            None => size * ratio.cbrt(),
+        }
+    }
+
+    /// The volume (m³) the walls hold now ([`Walls::volume_of`] the box).
+    pub fn volume(&self) -> f64 {
+        self.volume_of(self.box_size())
     }
 
     pub fn len(&self) -> usize {
@@ -143,8 +273,18 @@ impl Walls {
     }
 
     /// Compressive normal stress on a box face (Pa): normal force over the face's current area.
+    /// With a sleeve, a z face's area is the sleeve's section, and the side faces read the
+    /// sleeve's mean radial stress (the lateral stress of the sample).
     pub fn face_stress(&self, f: BoxFace) -> f64 {
         let l = self.box_size();
+        if let Some(s) = &self.sleeve {
+            return match f {
+                BoxFace::ZMin | BoxFace::ZMax => {
+                    self.face(f).normal_force() / (std::f64::consts::PI * s.radius * s.radius)
+                }
+                _ => s.radial_stress(l.z),
+            };
+        }
         let area = match f {
             BoxFace::XMin | BoxFace::XMax => l.y * l.z,
             BoxFace::YMin | BoxFace::YMax => l.x * l.z,
@@ -165,6 +305,9 @@ impl Walls {
             w.force = Vec3::zeros();
             w.stiffness = 0.0;
             w.contacts = 0;
+        }
+        if let Some(s) = &mut self.sleeve {
+            s.clear_forces();
         }
     }
 }

@@ -63,6 +63,7 @@ fn the_spheres_frequency_estimate_is_the_sum_over_their_overlaps() {
                 damping: Some(ViscousDamping::from_restitution(0.5)),
                 mindlin: friction,
                 wall_friction: None,
+                sleeve_friction: None,
                 skin: None,
                 shapes: false,
             });
@@ -97,6 +98,7 @@ fn a_history_naming_a_body_past_the_state_is_refused() {
             damping: None,
             mindlin: Some(Mindlin::new(60e9, 0.17, 0.5)),
             wall_friction: None,
+            sleeve_friction: None,
             skin: None,
             shapes,
         };

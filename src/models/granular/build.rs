@@ -38,6 +38,7 @@ pub fn contact_params(scene: &Scene, cfg: &GranularScene, friction: Option<f64>)
             .has_effect(EffectKind::Friction)
             .then(|| Mindlin::new(m.young, nu, friction.unwrap_or(m.friction))),
         wall_friction: cfg.walls.friction,
+        sleeve_friction: cfg.walls.sleeve_friction,
         skin: cfg.neighbor.skin,
         shapes: scene.has_effect(EffectKind::Fracture) || cfg.sample.non_spherical(),
     }
@@ -103,6 +104,9 @@ impl Granular {
         } else {
             probe::FREE_COLUMNS.to_vec()
         };
+        if walls.sleeve.is_some() && !loading.as_loading().reads_platens() {
+            columns.extend_from_slice(&probe::SLEEVE_COLUMNS);
+        }
         if fracture {
             columns.extend_from_slice(&probe::FRACTURE_COLUMNS);
         }
@@ -150,7 +154,7 @@ impl Granular {
     pub(super) fn with_state(scene: &Scene, cfg: GranularScene, state: GranularState) -> Granular {
         let fracture = scene.has_effect(EffectKind::Fracture);
         let shaped = state.bodies.shape.iter().any(|s| !s.is_sphere());
-        Granular {
+        let mut model = Granular {
             pipeline: pipeline_for(scene, &cfg, shaped),
             integrator: VelocityVerlet {
                 track_orientation: fracture || shaped,
@@ -166,6 +170,11 @@ impl Granular {
             solid_volume: std::cell::Cell::new(None),
             cfg,
             state,
+        };
+        // The sleeve is the scene's, not saved with a state: made again on a restored one.
+        if model.cfg.walls.sleeve && model.state.walls.sleeve.is_none() {
+            model.state.walls.add_sleeve();
         }
+        model
     }
 }

@@ -23,7 +23,26 @@ pub fn explain(scene: &Scene, cfg: &GranularScene) -> Result<String> {
         s,
         "model: granular, rigid grains (spheres, poly-ellipsoids) with Hertz–Mindlin contacts"
     );
-    let _ = writeln!(s, "sample: {}", describe_sample(cfg));
+    let mut sample = describe_sample(cfg);
+    if cfg.walls.sleeve {
+        // In a sleeve the faces close in along its axis only.
+        sample = sample.replace(
+            "(the box scaled alike in all directions)",
+            "(along the sleeve's axis: the z faces move, the sleeve holds)",
+        );
+    }
+    let _ = writeln!(s, "sample: {sample}");
+    if cfg.walls.sleeve {
+        let friction = cfg
+            .walls
+            .sleeve_friction
+            .or(cfg.walls.friction)
+            .unwrap_or(cfg.material.friction);
+        let _ = writeln!(
+            s,
+            "walls: a rigid, fixed sleeve (a circular cylinder along z, its diameter sample.box's x edge, friction {friction}) in place of the box's four side faces, closed by the two z faces; solid fractions are of its volume"
+        );
+    }
     write_pipeline(
         &mut s,
         scene,

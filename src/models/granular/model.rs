@@ -132,7 +132,7 @@ impl Physics for Granular {
                 v
             }
         };
-        let fraction = solid / (size.x * size.y * size.z);
+        let fraction = solid / st.walls.volume();
         (fraction > 1.0 || size.min() <= 0.0).then(|| {
             format!(
                 "the grains fill {fraction:.3} of the box (axial strain {:.3}): they overlap by more than all the pore space, beyond what contact mechanics describes; the faces were driven faster or further than the specimen can follow (lower the face speeds or loading.end_strain)",
@@ -157,7 +157,9 @@ impl Report for Granular {
         let mut row = if st.loading().is_some_and(|l| l.reads_platens()) {
             probe::platen_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)
         } else if st.walls.is_box {
-            probe::box_row(clock.time, st.height0, &st.bodies, &st.walls, contacts)
+            let mut row = probe::box_row(clock.time, st.height0, &st.bodies, &st.walls, contacts);
+            probe::sleeve_row(&st.walls, &mut row);
+            row
         } else {
             probe::free_row(clock.time, &st.bodies, contacts)
         };

@@ -80,7 +80,7 @@ impl Granular {
         } else {
             0.0
         };
-        let wall_contacts: usize = walls.walls.iter().map(|w| w.contacts).sum();
+        let wall_contacts = walls.contacts();
         let n = st.bodies.len().max(1);
         let coordination = (2 * self.pipeline.contacts() + wall_contacts) as f64 / n as f64;
         [stress, coordination]
@@ -157,7 +157,9 @@ impl Granular {
     /// `stress_at_strain` the axial stress (mean of the driven and the opposite face),
     /// `stress_driven_at_strain` and `stress_opposite_at_strain` each face's own (an SHPB's
     /// one-wave stress is the opposite face's, on the transmitted bar), and
-    /// `stress_lateral_at_strain` the mean of the four side faces (a sleeve's radial stress).
+    /// `stress_lateral_at_strain` the mean of the four side faces (with a sleeve, its mean
+    /// radial stress); with a sleeve also `stress_radial_profile_at_strain`, its radial stress
+    /// on each axial slice from the opposite face up.
     pub(super) fn stress_summary(&self, series: &Series, m: &mut Map<String, Value>) {
         let strains = self.report_strains();
         if strains.is_empty() {
@@ -189,6 +191,21 @@ impl Granular {
                 }
             }
             m.insert(key.into(), Value::Object(at));
+        }
+        if self.state.walls.sleeve.is_some() {
+            let slices: Vec<Vec<f64>> = probe::SLEEVE_COLUMNS[1..]
+                .iter()
+                .map(|c| series.column(c).unwrap_or_default())
+                .collect();
+            let mut at = serde_json::Map::new();
+            for e in &strains {
+                let profile: Option<Vec<f64>> =
+                    slices.iter().map(|c| interpolate(&eps, c, *e)).collect();
+                if let Some(p) = profile {
+                    at.insert(format!("{e}"), p.into());
+                }
+            }
+            m.insert("stress_radial_profile_at_strain".into(), Value::Object(at));
         }
     }
 

@@ -346,6 +346,14 @@ pub struct WallSpec {
     /// Coulomb friction between grains and walls, ≥ 0 (default: material.friction); 0 models
     /// lubricated walls.
     pub friction: Option<f64>,
+    /// The sample confined laterally by a rigid cylinder (an SHPB specimen's sleeve)
+    /// inscribed in the box's x–y section, its axis along z, in place of the four side faces;
+    /// the two z faces close it. Default false.
+    #[serde(default)]
+    pub sleeve: bool,
+    /// Coulomb friction between grains and the sleeve, ≥ 0 (default: `friction`, else
+    /// material.friction); with `sleeve` only.
+    pub sleeve_friction: Option<f64>,
 }
 
 /// The granular model's tables of a scene, checked.

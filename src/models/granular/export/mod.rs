@@ -154,6 +154,21 @@ pub fn export(
         ));
     }
     let cfg = super::Granular::read(&scene)?;
+    if cfg.walls.sleeve {
+        let code = if plugin {
+            "lammps --plugin"
+        } else if lammps {
+            "lammps"
+        } else {
+            "yade"
+        };
+        return Err(scene.key_error(
+            "walls.sleeve",
+            format!(
+                "= true: `fractum export {code}` writes flat walls only, and the sleeve (a cylinder) has no counterpart in the exported script yet"
+            ),
+        ));
+    }
     let sample = super::sample::build(&scene, &cfg, progress)?;
     let count = sample.bodies.len();
     let sim = Simulation::from_sample(scene, sample, 1)?;

@@ -15,8 +15,9 @@ use crate::sample::{
     CompactionSpec, EllipsoidGrain, FractionSpec, JammedShort, JammedSpec, STREAM_ORIENTATIONS,
     STREAM_POSITIONS, STREAM_RADII, STREAM_SHAPES, Sample, SampleInfo, bounding_box,
     check_assembly_overlaps, compact_jammed, compact_to_fraction, compact_to_pressure,
-    hcp_positions, pack_geometric, random_orientation, read_ellipsoid_assembly, read_lammps_data,
-    read_text_packing, simple_cubic_positions, stream, truncated_normal_radii,
+    hcp_positions, pack_geometric, pack_geometric_in_sleeve, random_orientation,
+    read_ellipsoid_assembly, read_lammps_data, read_text_packing, simple_cubic_positions, stream,
+    truncated_normal_radii,
 };
 use crate::scene::Scene;
 use crate::scene::validate::check_bodies;
@@ -157,6 +158,16 @@ fn cache_key(scene: &Scene) -> u64 {
         }
         eat(t.map(|t| t.to_string()).unwrap_or_default().as_bytes());
     }
+    // A sample made in a sleeve is another sample (the key of one without stays as it was).
+    if scene
+        .tables
+        .get("walls")
+        .and_then(|t| t.get("sleeve"))
+        .and_then(|v| v.as_bool())
+        == Some(true)
+    {
+        eat(b"sleeve");
+    }
     if let Some(file) = scene
         .tables
         .get("sample")
@@ -208,7 +219,10 @@ fn make(
             lattice(l, rho)
         }
         Grains::File(f) => {
-            let (b, w, held) = packing_file(scene, f, rho)?;
+            let (b, mut w, held) = packing_file(scene, f, rho)?;
+            if cfg.walls.sleeve {
+                into_sleeve(scene, &b, &mut w)?;
+            }
             (own_orientations, orientations) = (held, f.orientations);
             (b, w)
         }
@@ -246,7 +260,7 @@ fn make(
         kind: spec.kind().as_str().to_string(),
         count: bodies.len(),
         box_size: size.into(),
-        solid_fraction: bodies.solid_volume() / (size.x * size.y * size.z),
+        solid_fraction: bodies.solid_volume() / walls.volume(),
         compaction_steps,
     };
     Ok(Sample {
@@ -254,6 +268,64 @@ fn make(
         walls,
         info,
     })
+}
+
+/// Whether the sleeve of `walls` (if any) can hold grains of bounding radius up to `rmax`
+/// (m): it must be wider than the largest grain is long. (A grain touches the sleeve at one
+/// point, its farthest from the axis; one nearly as long as the sleeve is wide may also press
+/// on the far side, which that contact does not see.)
+fn sleeve_fits(scene: &Scene, walls: &Walls, rmax: f64) -> Result<()> {
+    let Some(s) = &walls.sleeve else {
+        return Ok(());
+    };
+    if s.radius > rmax {
+        return Ok(());
+    }
+    Err(scene.key_error(
+        "walls.sleeve",
+        format!(
+            "= true: the sleeve, {:.3e} m across (sample.box's x edge), must be wider than the largest grain is long ({:.3e} m); enlarge sample.box's x and y edges",
+            2.0 * s.radius,
+            2.0 * rmax
+        ),
+    ))
+}
+
+/// Puts the sleeve inscribed in the box of a packing file's `bodies` around them: the box's
+/// x and y edges must be equal, the sleeve wider than two of the largest body, and every
+/// centre inside it.
+fn into_sleeve(scene: &Scene, bodies: &Bodies, walls: &mut Walls) -> Result<()> {
+    let size = walls.box_size();
+    if (size.x - size.y).abs() > 1e-12 * size.x.abs().max(size.y.abs()) {
+        return Err(scene.key_error(
+            "walls.sleeve",
+            format!(
+                "= true: the sleeve is the cylinder inscribed in the box's x-y section, whose x and y edges must then be equal; the packing's box is {:e} × {:e} × {:e} m",
+                size.x, size.y, size.z
+            ),
+        ));
+    }
+    walls.add_sleeve();
+    let rmax = bodies.radius.iter().copied().fold(0.0, f64::max);
+    sleeve_fits(scene, walls, rmax)?;
+    let sleeve = walls.sleeve.as_ref().expect("just added");
+    if let Some(i) = (0..bodies.len()).find(|&i| sleeve.distance(&bodies.pos[i]) < 0.0) {
+        let p = bodies.pos[i];
+        return Err(scene.key_error(
+            "walls.sleeve",
+            format!(
+                "= true: body {} (centre ({:e}, {:e}, {:e}) m) lies outside the sleeve, {:e} m in radius about ({:e}, {:e}); every centre must lie inside it",
+                i + 1,
+                p.x,
+                p.y,
+                p.z,
+                sleeve.radius,
+                sleeve.centre.x,
+                sleeve.centre.y
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The sample of a granular scene (its section read from the scene).

@@ -16,7 +16,9 @@ pub(super) fn compacted_sample(
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<(Bodies, Walls, u64)> {
     let size = Vec3::from(s.box_size);
-    let box_volume = size.x * size.y * size.z;
+    // The container: the box, or the sleeve inscribed in it.
+    let container = container(cfg, size);
+    let box_volume = container.volume_of(size);
     // Each grain as semi-axes (a, b, c); spheres have a = b = c.
     let mut grains: Vec<[f64; 3]> = match &s.shape {
         RandomShape::Ellipsoids { grain_file, .. } => {
@@ -71,7 +73,9 @@ pub(super) fn compacted_sample(
             return Err(scene.key_error(
                 "sample.solid_fraction",
                 format!(
-                    "= {phi}: the whole grains drawn for it fill {drawn:.4} of sample.box, not                      within {tolerance} of it (one grain is too large a share of so small a box);                      enlarge sample.box"
+                    "= {phi}: the whole grains drawn for it fill {drawn:.4} of sample.box, not \
+                     within {tolerance} of it (one grain is too large a share of so small a box); \
+                     enlarge sample.box"
                 ),
             ));
         }
@@ -81,6 +85,7 @@ pub(super) fn compacted_sample(
         Amount::Both { solid_fraction, .. } => size * (solid / solid_fraction / box_volume).cbrt(),
         _ => size,
     };
+    let target_volume = container.volume_of(target);
     let bounding: Vec<f64> = grains.iter().map(|g| g[0].max(g[1]).max(g[2])).collect();
     let rmax = bounding.iter().copied().fold(0.0, f64::max);
     too_few_for_the_box(scene, s.amount, target, rmax)?;
@@ -92,17 +97,29 @@ pub(super) fn compacted_sample(
             ),
         ));
     }
+    sleeve_fits(scene, &container, rmax)?;
     let spheres: f64 = bounding.iter().map(|&r| sphere_volume(r)).sum();
-    let start = target
-        * (spheres / START_FRACTION / (target.x * target.y * target.z))
-            .cbrt()
-            .max(1.0);
+    let start = match container.sleeve {
+        // In a sleeve the loose grains stand taller, not wider.
+        Some(_) => container.resized(target, (spheres / START_FRACTION / target_volume).max(1.0)),
+        None => {
+            target
+                * (spheres / START_FRACTION / (target.x * target.y * target.z))
+                    .cbrt()
+                    .max(1.0)
+        }
+    };
     progress(&format!(
         "placing {} grains (their bounding spheres at solid fraction {START_FRACTION}) before compaction",
         grains.len()
     ));
     let mut prng = stream(scene.seed, STREAM_POSITIONS);
-    let (pos, _) = pack_geometric(&bounding, Vec3::zeros(), start, &mut prng).map_err(|j| {
+    let pack = if container.sleeve.is_some() {
+        pack_geometric_in_sleeve
+    } else {
+        pack_geometric
+    };
+    let (pos, _) = pack(&bounding, Vec3::zeros(), start, &mut prng).map_err(|j| {
         scene.key_error(
             "sample.box",
             format!(
@@ -130,6 +147,9 @@ pub(super) fn compacted_sample(
     let order = b.spatial_order(2.0 * rmax);
     b.reorder(&order);
     let mut walls = Walls::new_box(Vec3::zeros(), start);
+    if container.sleeve.is_some() {
+        walls.add_sleeve();
+    }
     let m = &cfg.material;
     if s.packing() == Packing::Jammed {
         let spec = JammedSpec {
@@ -138,7 +158,7 @@ pub(super) fn compacted_sample(
             density: m.density,
             friction: m.friction,
             skin: cfg.neighbor.skin,
-            fraction: solid / (target.x * target.y * target.z),
+            fraction: solid / target_volume,
         };
         let report = compact_jammed(&mut b, &mut walls, &spec, progress)?.map_err(|short| {
             let why = match short {
@@ -196,7 +216,7 @@ pub(super) fn compacted_sample(
     progress(&format!(
         "compacted in {} steps: solid fraction {:.4}, face stresses {:.3e} {:.3e} {:.3e} Pa",
         report.steps,
-        b.solid_volume() / (target.x * target.y * target.z),
+        b.solid_volume() / target_volume,
         report.stresses[0],
         report.stresses[1],
         report.stresses[2]
@@ -282,14 +302,15 @@ pub(super) fn random_sample(
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<(Bodies, Walls)> {
     let mut size = Vec3::from(s.box_size);
-    let box_volume = size.x * size.y * size.z;
+    let container = container(cfg, size);
+    let box_volume = container.volume_of(size);
     let radii = draw_radii(scene, dist, s.amount, box_volume);
     let solid: f64 = radii.iter().map(|&r| sphere_volume(r)).sum();
     if let Amount::Both { solid_fraction, .. } = s.amount {
         // Both a count and a fraction: keep the box's shape, scale it to the fraction.
         size *= (solid / solid_fraction / box_volume).cbrt();
     }
-    let phi = solid / (size.x * size.y * size.z);
+    let phi = solid / container.volume_of(size);
     if phi > 0.65 {
         return Err(scene.key_error(
             "sample.count",
@@ -308,12 +329,22 @@ pub(super) fn random_sample(
             ),
         ));
     }
+    let mut walls = Walls::new_box(Vec3::zeros(), size);
+    if container.sleeve.is_some() {
+        walls.add_sleeve();
+    }
+    sleeve_fits(scene, &walls, rmax)?;
     progress(&format!(
         "packing {} spheres at solid fraction {phi:.3}",
         radii.len()
     ));
     let mut prng = stream(scene.seed, STREAM_POSITIONS);
-    let (pos, report) = pack_geometric(&radii, Vec3::zeros(), size, &mut prng)
+    let pack = if walls.sleeve.is_some() {
+        pack_geometric_in_sleeve
+    } else {
+        pack_geometric
+    };
+    let (pos, report) = pack(&radii, Vec3::zeros(), size, &mut prng)
         .map_err(|j| {
             scene.key_error(
                 "sample.solid_fraction",
@@ -334,5 +365,15 @@ pub(super) fn random_sample(
     // Random indices would scatter neighbours over memory: number the spheres by position.
     let order = b.spatial_order(2.0 * rmax);
     b.reorder(&order);
-    Ok((b, Walls::new_box(Vec3::zeros(), size)))
+    Ok((b, walls))
+}
+
+/// The walls a random sample of box edges `size` (m) is made in, to measure it by (their
+/// volume, how they resize): the box, with the scene's sleeve if it asks for one.
+fn container(cfg: &GranularScene, size: Vec3) -> Walls {
+    let mut walls = Walls::new_box(Vec3::zeros(), size);
+    if cfg.walls.sleeve {
+        walls.add_sleeve();
+    }
+    walls
 }
