@@ -98,6 +98,12 @@ const SCENES: &[(&str, &[&str])] = &[
         "mason_sand_shpb.toml",
         &["sample.box=[2e-3, 2e-3, 2e-3]", "loading.end_strain=0.02"],
     ),
+    // The whole specimen's scene in a 2 mm sleeve: about 140 Mason sand ellipsoids jammed at
+    // 0.574, to 2% strain.
+    (
+        "mason_sand_specimen.toml",
+        &["sample.box=[2e-3, 2e-3, 2e-3]", "loading.end_strain=0.02"],
+    ),
     // The parallel case: 3375 spheres, above the 2 x 1500 bodies from which the contact loop
     // goes parallel on two threads; to 0.5% strain, about 220 grains broken.
     (

@@ -136,3 +136,47 @@ fn main_job_compacts_the_sand_and_stays_finite() {
         "{phi_end} vs {box_only}, {splits} splits"
     );
 }
+
+/// The whole specimen follows the 3 mm cube cut from it: the same grains, material and
+/// strength (a recalibration of the cube moves the specimen too), the same preparation and
+/// loading, in the laboratory's 12.7 mm sleeve, 10.3 mm long.
+#[test]
+fn the_whole_specimen_holds_the_cube_scenes_grains_material_and_strength() {
+    let read = |name: &str| {
+        fractum::Scene::read(&common::repo().join("scenes").join(name), &[])
+            .unwrap_or_else(|e| panic!("{name}: {e}"))
+    };
+    let (cube, specimen) = (
+        read("mason_sand_shpb.toml"),
+        read("mason_sand_specimen.toml"),
+    );
+    for table in ["material", "fracture", "loading", "time", "neighbor"] {
+        assert_eq!(
+            cube.tables.get(table),
+            specimen.tables.get(table),
+            "[{table}] differs between the cube and the specimen"
+        );
+    }
+    assert_eq!(cube.effects, specimen.effects);
+    let sample = |s: &fractum::Scene, key: &str| s.tables["sample"].get(key).cloned();
+    for key in ["kind", "shape", "grain_file", "solid_fraction", "packing"] {
+        assert_eq!(sample(&cube, key), sample(&specimen, key), "sample.{key}");
+    }
+    let size: Vec<f64> = sample(&specimen, "box")
+        .and_then(|b| b.as_array().cloned())
+        .unwrap()
+        .iter()
+        .map(|v| v.as_float().unwrap())
+        .collect();
+    assert_eq!(
+        size,
+        [12.7e-3, 12.7e-3, 10.3e-3],
+        "12.7 mm across, L/D 0.81"
+    );
+    assert_eq!(
+        specimen.tables["walls"]
+            .get("sleeve")
+            .and_then(|v| v.as_bool()),
+        Some(true)
+    );
+}
