@@ -210,40 +210,54 @@ fn an_ellipsoid_pressed_on_the_sleeve_carries_hertz_force_of_a_concave_cylinder(
 #[test]
 fn a_turned_ellipsoid_meets_the_sleeve_at_its_point_farthest_from_the_axis() {
     // Brute force: the largest distance from the axis over the ellipsoid's surface, sampled
-    // on a fine grid of directions, against the fixed-point iteration's overlap.
+    // on a fine grid of directions, against the search's overlap. A turned poly-ellipsoid;
+    // then a long one lying round the hoop, flatter there than the sleeve (radius of curvature
+    // 6.4 mm at its middle in a 1 mm sleeve): its ends reach farther than its middle.
     let big_r = 1.0e-3;
-    let pe = PolyEllipsoid::new([0.4e-3, 0.2e-3, 0.3e-3, 0.15e-3, 0.25e-3, 0.1e-3]).unwrap();
-    let q = UnitQuaternion::from_euler_angles(0.7, -0.4, 1.9);
-    let rot = q.to_rotation_matrix().into_inner();
-    let origin = Vec3::new(0.75e-3, 0.4e-3, 0.1e-3);
-    let placed = Placed::poly_ellipsoid(&pe, origin, rot);
-    let mut farthest = 0.0_f64;
-    let n = 400;
-    for i in 0..=n {
-        let theta = std::f64::consts::PI * i as f64 / n as f64;
-        for j in 0..2 * n {
-            let phi = std::f64::consts::PI * j as f64 / n as f64;
-            let d = Vec3::new(
-                theta.sin() * phi.cos(),
-                theta.sin() * phi.sin(),
-                theta.cos(),
-            );
-            let p = origin + rot * pe.surface_point(&d);
-            farthest = farthest.max((p.x * p.x + p.y * p.y).sqrt());
+    let cases = [
+        (
+            [0.4e-3, 0.2e-3, 0.3e-3, 0.15e-3, 0.25e-3, 0.1e-3],
+            UnitQuaternion::from_euler_angles(0.7, -0.4, 1.9),
+            Vec3::new(0.75e-3, 0.4e-3, 0.1e-3),
+        ),
+        (
+            [0.1e-3, 0.1e-3, 0.8e-3, 0.8e-3, 0.2e-3, 0.2e-3],
+            UnitQuaternion::identity(),
+            Vec3::new(0.75e-3, 0.0, 0.0),
+        ),
+    ];
+    for (semi, q, origin) in cases {
+        let pe = PolyEllipsoid::new(semi).unwrap();
+        let rot = q.to_rotation_matrix().into_inner();
+        let placed = Placed::poly_ellipsoid(&pe, origin, rot);
+        let mut farthest = 0.0_f64;
+        let n = 400;
+        for i in 0..=n {
+            let theta = std::f64::consts::PI * i as f64 / n as f64;
+            for j in 0..2 * n {
+                let phi = std::f64::consts::PI * j as f64 / n as f64;
+                let d = Vec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.sin() * phi.sin(),
+                    theta.cos(),
+                );
+                let p = origin + rot * pe.surface_point(&d);
+                farthest = farthest.max((p.x * p.x + p.y * p.y).sqrt());
+            }
         }
+        let brute = farthest - big_r;
+        assert!(brute > 0.0, "the ellipsoid reaches the sleeve: {brute:e}");
+        let g = sleeve_geometry(&placed, &Vec3::zeros(), big_r).expect("it reaches the sleeve");
+        // The grid's spacing (pi/400 rad over radii of a few tenths of a millimetre) bounds how
+        // far below the true maximum the samples stay: a few 1e-9 m.
+        assert!(
+            g.depth >= brute - 1e-12 && g.depth - brute < 1e-8,
+            "overlap {:e} against the sampled {brute:e}",
+            g.depth
+        );
+        let p = g.point_a;
+        assert!(((p.x * p.x + p.y * p.y).sqrt() - big_r - g.depth).abs() < 1e-15);
     }
-    let brute = farthest - big_r;
-    assert!(brute > 0.0, "the ellipsoid reaches the sleeve: {brute:e}");
-    let g = sleeve_geometry(&placed, &Vec3::zeros(), big_r).expect("it reaches the sleeve");
-    // The grid's spacing (pi/400 rad over radii of a few tenths of a millimetre) bounds how
-    // far below the true maximum the samples stay: a few 1e-9 m.
-    assert!(
-        g.depth >= brute - 1e-12 && g.depth - brute < 1e-8,
-        "overlap {:e} against the sampled {brute:e}",
-        g.depth
-    );
-    let p = g.point_a;
-    assert!(((p.x * p.x + p.y * p.y).sqrt() - big_r - g.depth).abs() < 1e-15);
 }
 
 /// A sphere (or ellipsoid) pushed onto the sleeve by a body force along +x and left to settle:
