@@ -1,8 +1,69 @@
-//! The wall loop: each body's contacts with the walls, and the walls' forces.
+//! The wall loop: each body's contacts with the walls and the sleeve, and their forces.
 
 use super::*;
 use crate::contact::pair::sleeve_contact;
 use crate::state::{BoxFace, SLEEVE_SLICES};
+
+/// What one surface's loop needs besides its kernel: the bodies, this evaluation's placements,
+/// and what each candidate remembers (tangential displacement with FRIC, held Hertz radius with
+/// POLY), with the sums every contact adds to (the bodies' forces, the records or the
+/// stiffness sums).
+struct SurfaceLoop<'a> {
+    bodies: &'a Bodies,
+    placements: &'a [Placement],
+    hist: &'a mut Vec<Vec<Vec3>>,
+    radius: &'a mut Vec<Vec<f64>>,
+    forces: &'a mut Forces,
+    records: &'a mut ContactRecords,
+    stiffness: &'a mut Vec<f64>,
+}
+
+impl SurfaceLoop<'_> {
+    /// Evaluates `kernel` (a body, its tangential displacement and held radius) on each of
+    /// `candidates`, the candidate list `w`, adds each contact's force and torque to its body
+    /// and its record (or stiffness), and hands it to `surface`.
+    fn run<const FRIC: bool, const POLY: bool>(
+        &mut self,
+        w: usize,
+        candidates: &[u32],
+        mut kernel: impl FnMut(&BodyAt, &mut Vec3, &mut f64) -> Option<PairOut>,
+        mut surface: impl FnMut(&PairOut),
+    ) {
+        let (mut dummy, mut dummy_radius) = (Vec3::zeros(), 0.0);
+        for (c, &i) in candidates.iter().enumerate() {
+            let i = i as usize;
+            let h = if FRIC {
+                &mut self.hist[w][c]
+            } else {
+                &mut dummy
+            };
+            let held = if POLY {
+                &mut self.radius[w][c]
+            } else {
+                &mut dummy_radius
+            };
+            let body = BodyAt {
+                bodies: self.bodies,
+                placements: self.placements,
+                i,
+            };
+            let Some(p) = kernel(&body, h, held) else {
+                continue;
+            };
+            self.forces.force[i] += p.force;
+            if FRIC || POLY {
+                self.forces.torque[i] += p.torque_i;
+            }
+            if POLY {
+                self.records.list.push(p.record(i, WALL | w as u32));
+                self.records.dissipated += p.c.dissipated;
+            } else {
+                self.stiffness[i] += p.c.stiffness;
+            }
+            surface(&p);
+        }
+    }
+}
 
 impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FRIC, POLY> {
     pub(super) fn walls_serial(
@@ -12,117 +73,83 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         forces: &mut Forces,
         ctx: &StepContext,
     ) {
-        let mut dummy = Vec3::zeros();
-        let mut dummy_radius = 0.0;
         let mut wall_hist = std::mem::take(&mut self.wall_hist);
         let mut wall_radius = std::mem::take(&mut self.wall_radius);
         let mut records = std::mem::take(&mut self.records);
         let mut stiffness = std::mem::take(&mut self.body_stiffness);
         let this = &*self;
+        let mut each = SurfaceLoop {
+            bodies,
+            placements: &this.placements,
+            hist: &mut wall_hist,
+            radius: &mut wall_radius,
+            forces,
+            records: &mut records,
+            stiffness: &mut stiffness,
+        };
+        let (dt, update) = (ctx.dt, ctx.update_history);
+        let sleeve_list = walls.walls.len();
         for (w, wall) in walls.walls.iter_mut().enumerate() {
-            let cands = &this.wall_lists.candidates[w];
-            for (c, &i) in cands.iter().enumerate() {
-                let i = i as usize;
-                let h = if FRIC {
-                    &mut wall_hist[w][c]
-                } else {
-                    &mut dummy
-                };
-                let held = if POLY {
-                    &mut wall_radius[w][c]
-                } else {
-                    &mut dummy_radius
-                };
-                let body = BodyAt {
-                    bodies,
-                    placements: &this.placements,
-                    i,
-                };
-                let Some(p) = wall_contact::<DAMP, FRIC, POLY>(
-                    &this.k_wall,
-                    &body,
-                    &wall.normal,
-                    &wall.point,
-                    &wall.velocity,
-                    h,
-                    held,
-                    ctx.dt,
-                    ctx.update_history,
-                ) else {
-                    continue;
-                };
-                forces.force[i] += p.force;
-                if FRIC || POLY {
-                    forces.torque[i] += p.torque_i;
-                }
-                if POLY {
-                    records.list.push(p.record(i, WALL | w as u32));
-                    records.dissipated += p.c.dissipated;
-                } else {
-                    stiffness[i] += p.c.stiffness;
-                }
-                wall.force -= p.force;
-                wall.stiffness += p.c.stiffness;
-                wall.contacts += 1;
-            }
+            let (normal, point, velocity) = (wall.normal, wall.point, wall.velocity);
+            each.run::<FRIC, POLY>(
+                w,
+                &this.wall_lists.candidates[w],
+                |body, h, held| {
+                    wall_contact::<DAMP, FRIC, POLY>(
+                        &this.k_wall,
+                        body,
+                        &normal,
+                        &point,
+                        &velocity,
+                        h,
+                        held,
+                        dt,
+                        update,
+                    )
+                },
+                |p| {
+                    wall.force -= p.force;
+                    wall.stiffness += p.c.stiffness;
+                    wall.contacts += 1;
+                },
+            );
         }
         if let Some(sleeve) = &mut walls.sleeve {
             // The slices of the span between the box's z faces (the bars' faces).
             let z0 = walls.walls[BoxFace::ZMin as usize].point.z;
             let height = walls.walls[BoxFace::ZMax as usize].point.z - z0;
-            let w = walls.walls.len();
-            for (c, &i) in this.wall_lists.candidates[w].iter().enumerate() {
-                let i = i as usize;
-                let h = if FRIC {
-                    &mut wall_hist[w][c]
-                } else {
-                    &mut dummy
-                };
-                let held = if POLY {
-                    &mut wall_radius[w][c]
-                } else {
-                    &mut dummy_radius
-                };
-                let body = BodyAt {
-                    bodies,
-                    placements: &this.placements,
-                    i,
-                };
-                let Some(p) = sleeve_contact::<DAMP, FRIC, POLY>(
-                    &this.k_sleeve,
-                    &body,
-                    sleeve,
-                    h,
-                    held,
-                    ctx.dt,
-                    ctx.update_history,
-                ) else {
-                    continue;
-                };
-                forces.force[i] += p.force;
-                if FRIC || POLY {
-                    forces.torque[i] += p.torque_i;
-                }
-                if POLY {
-                    records.list.push(p.record(i, WALL | w as u32));
-                    records.dissipated += p.c.dissipated;
-                } else {
-                    stiffness[i] += p.c.stiffness;
-                }
-                let load = p.force.dot(&p.normal);
-                let slice = ((p.point.z - z0) / height * SLEEVE_SLICES as f64).floor();
-                // A point beyond either face (a grain pressed into it) counts in the end slice.
-                let slice = if slice.is_nan() {
-                    0
-                } else {
-                    (slice.max(0.0) as usize).min(SLEEVE_SLICES - 1)
-                };
-                sleeve.force -= p.force;
-                sleeve.load += load;
-                sleeve.slices[slice] += load;
-                sleeve.stiffness += p.c.stiffness;
-                sleeve.contacts += 1;
-            }
+            let geometry = sleeve.clone();
+            each.run::<FRIC, POLY>(
+                sleeve_list,
+                &this.wall_lists.candidates[sleeve_list],
+                |body, h, held| {
+                    sleeve_contact::<DAMP, FRIC, POLY>(
+                        &this.k_sleeve,
+                        body,
+                        &geometry,
+                        h,
+                        held,
+                        dt,
+                        update,
+                    )
+                },
+                |p| {
+                    let load = p.force.dot(&p.normal);
+                    let slice = ((p.point.z - z0) / height * SLEEVE_SLICES as f64).floor();
+                    // A point beyond either face (a grain pressed into it) counts in the end
+                    // slice.
+                    let slice = if slice.is_nan() {
+                        0
+                    } else {
+                        (slice.max(0.0) as usize).min(SLEEVE_SLICES - 1)
+                    };
+                    sleeve.force -= p.force;
+                    sleeve.load += load;
+                    sleeve.slices[slice] += load;
+                    sleeve.stiffness += p.c.stiffness;
+                    sleeve.contacts += 1;
+                },
+            );
         }
         self.wall_hist = wall_hist;
         self.wall_radius = wall_radius;
