@@ -372,3 +372,56 @@ fn the_sleeve_scene_reports_its_contacts_summed_over_its_area_and_keeps_its_ener
         .unwrap();
     assert!(opposite > 0.0 && lateral > 0.0, "{opposite} {lateral}");
 }
+
+/// The sleeve is not saved with a sample or a state: it is made from the scene. A run whose
+/// sample comes from the sample cache, and one resumed from a checkpoint, give the same
+/// series and summary as the run that made the sample (a cached sample once came without its
+/// sleeve columns and the summary stopped on them).
+#[test]
+fn a_sleeve_run_from_the_sample_cache_or_a_checkpoint_repeats_bit_for_bit() {
+    let dir = tempfile::tempdir().unwrap();
+    let cache = dir.path().join("cache");
+    let scene = common::repo().join("scenes/mason_sand_specimen.toml");
+    let run = |out: &str, extra: &[&str]| {
+        let mut args = vec![
+            "run",
+            scene.to_str().unwrap(),
+            "--quiet",
+            "--threads",
+            "1",
+            "--set",
+            "sample.box=[2e-3, 2e-3, 2e-3]",
+            "--set",
+            "loading.end_strain=0.01",
+            "--set",
+            "output.every=100",
+            "--out",
+            out,
+        ];
+        args.extend_from_slice(extra);
+        let o = std::process::Command::new(common::fractum_bin())
+            .args(&args)
+            .current_dir(dir.path())
+            .env(fractum::models::granular::sample::SAMPLE_CACHE, &cache)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    run("made", &["--checkpoint-every", "600"]);
+    run("cached", &[]);
+    let checkpoint = dir.path().join("made/checkpoints/step_000000600.fcp");
+    common::resume(dir.path(), &checkpoint, &dir.path().join("resumed"));
+    let read = |name: &str, file: &str| {
+        std::fs::read_to_string(dir.path().join(name).join(file)).unwrap()
+    };
+    let made = read("made", "series.csv");
+    assert!(made.lines().next().unwrap().contains("stress_radial_10"));
+    for other in ["cached", "resumed"] {
+        assert_eq!(made, read(other, "series.csv"), "series.csv of the {other} run");
+        assert_eq!(
+            common::without_wall_seconds(&dir.path().join("made/summary.json")),
+            common::without_wall_seconds(&dir.path().join(other).join("summary.json")),
+            "summary.json of the {other} run"
+        );
+    }
+}

@@ -308,6 +308,15 @@ impl<M: Model> Runner<M> {
                 self.clock.step, self.clock.time, self.series.columns[c], row[c],
             )));
         }
+        // A row of another length than the header shifts every column after the difference:
+        // a model's row and its columns disagree, which is a bug, not bad input.
+        assert_eq!(
+            row.len(),
+            self.series.columns.len(),
+            "a series row of {} values under {} columns",
+            row.len(),
+            self.series.columns.len()
+        );
         self.series.rows.push(row);
         Ok(())
     }

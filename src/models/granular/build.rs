@@ -71,14 +71,24 @@ pub(super) fn step_control(scene: &Scene, dt: f64) -> StepControl {
     }
 }
 
+/// Puts the scene's sleeve (`walls.sleeve`) round `walls` if they lack it: the sleeve is not
+/// saved with a sample (the sample cache) or a state, and a sample made elsewhere has none.
+fn with_scene_sleeve(cfg: &GranularScene, walls: &mut Walls) {
+    if cfg.walls.sleeve && walls.is_box && walls.sleeve.is_none() {
+        walls.add_sleeve();
+    }
+}
+
 impl Granular {
     /// Sets the model up on a sample (built from the scene, or made elsewhere).
     pub fn from_sample(scene: &Scene, cfg: GranularScene, sample: Sample) -> Result<Built<Self>> {
         let Sample {
             bodies,
-            walls,
+            mut walls,
             info,
         } = sample;
+        // A sample read from the cache (or made elsewhere) comes without the scene's sleeve.
+        with_scene_sleeve(&cfg, &mut walls);
         if bodies.is_empty() {
             return Err(scene.key_error("sample", "gives no bodies"));
         }
@@ -172,9 +182,7 @@ impl Granular {
             state,
         };
         // The sleeve is the scene's, not saved with a state: made again on a restored one.
-        if model.cfg.walls.sleeve && model.state.walls.sleeve.is_none() {
-            model.state.walls.add_sleeve();
-        }
+        with_scene_sleeve(&model.cfg, &mut model.state.walls);
         model
     }
 }

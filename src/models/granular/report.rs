@@ -3,9 +3,10 @@
 
 use super::*;
 
-/// The value of `ys` at `x` by linear interpolation along the increasing `xs`; `None` outside.
+/// The value of `ys` at `x` by linear interpolation along the increasing `xs`; `None` outside
+/// (and where `ys` is shorter).
 fn interpolate(xs: &[f64], ys: &[f64], x: f64) -> Option<f64> {
-    let k = xs.iter().position(|&v| v >= x)?;
+    let k = xs.iter().position(|&v| v >= x).filter(|&k| k < ys.len())?;
     if k == 0 {
         return (xs[0] == x).then(|| ys[0]);
     }
