@@ -53,7 +53,14 @@ pub fn explain(scene: &Scene, cfg: &GranularScene) -> Result<String> {
     if scene.has_effect(EffectKind::Fracture) {
         let _ = writeln!(s, "after each step: {}", describe_fracture(scene, cfg));
     }
-    let _ = writeln!(s, "loading: {}", super::Loading::describe(&cfg.loading));
+    let mut loading = super::Loading::describe(&cfg.loading);
+    if cfg.walls.sleeve {
+        loading = loading.replace(
+            "the other five walls fixed",
+            "the bottom face (z-) and the sleeve fixed",
+        );
+    }
+    let _ = writeln!(s, "loading: {loading}");
     let dt = if scene.has_effect(EffectKind::Fracture) {
         scene.time.describe_step(&format!(
             "the Rayleigh critical step of half the smallest sphere (the pieces), shortened as pieces appear to keep the bound on the highest contact frequency at omega dt <= {:.3} (3 x {})",
