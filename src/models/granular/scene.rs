@@ -12,6 +12,7 @@ use crate::fracture::FractureSpec;
 use crate::scene::{EffectKind, NeighborSpec};
 
 mod raw;
+mod sleeve;
 
 pub(super) use raw::{GranularScene as RawGranularScene, validate};
 
