@@ -411,13 +411,16 @@ fn a_sleeve_run_from_the_sample_cache_or_a_checkpoint_repeats_bit_for_bit() {
     run("cached", &[]);
     let checkpoint = dir.path().join("made/checkpoints/step_000000600.fcp");
     common::resume(dir.path(), &checkpoint, &dir.path().join("resumed"));
-    let read = |name: &str, file: &str| {
-        std::fs::read_to_string(dir.path().join(name).join(file)).unwrap()
-    };
+    let read =
+        |name: &str, file: &str| std::fs::read_to_string(dir.path().join(name).join(file)).unwrap();
     let made = read("made", "series.csv");
     assert!(made.lines().next().unwrap().contains("stress_radial_10"));
     for other in ["cached", "resumed"] {
-        assert_eq!(made, read(other, "series.csv"), "series.csv of the {other} run");
+        assert_eq!(
+            made,
+            read(other, "series.csv"),
+            "series.csv of the {other} run"
+        );
         assert_eq!(
             common::without_wall_seconds(&dir.path().join("made/summary.json")),
             common::without_wall_seconds(&dir.path().join(other).join("summary.json")),

@@ -98,7 +98,7 @@ fn farthest_from_axis(
 /// axis is its largest extent along a horizontal direction, so the farthest distance is the
 /// largest over the horizontal directions `e(θ)` of A's extent from the axis along them,
 /// `f(θ) = h_A(e) − c·e`: a search over one angle, by Newton's method from the centroid's
-/// radial direction ([`farthest_from_axis`]; quadratic, a few steps). There A's normal is `e`,
+/// radial direction (`farthest_from_axis`; quadratic, a few steps). There A's normal is `e`,
 /// the overlap is the point's distance from the axis less R, the normal `-e` (towards the
 /// axis), `point_b` the foot on the cylinder, and the Hertz radius [`sleeve_hertz_radius`] of
 /// A's curvature there (axis and hoop as tangents). Where A is at least as flat round the hoop
