@@ -3,6 +3,8 @@
 use super::{Effect, StepContext};
 use crate::state::{Bodies, Forces, Vec3, Walls};
 
+/// The weight of every body, with `g` the same everywhere.
+#[derive(Debug, Clone, Copy)]
 pub struct Gravity {
     /// Gravitational acceleration (m/s²).
     pub g: Vec3,
@@ -11,6 +13,13 @@ pub struct Gravity {
 impl Gravity {
     pub fn new(g: Vec3) -> Self {
         Gravity { g }
+    }
+
+    /// Adds each body's weight m·g to its force (the dlsm model's elements too).
+    pub fn add_weight(&self, bodies: &Bodies, forces: &mut Forces) {
+        for (f, &m) in forces.force.iter_mut().zip(&bodies.mass) {
+            *f += self.g * m;
+        }
     }
 }
 
@@ -27,9 +36,7 @@ impl Effect for Gravity {
     }
 
     fn accumulate(&mut self, _: &StepContext, bodies: &Bodies, _: &mut Walls, forces: &mut Forces) {
-        for (f, &m) in forces.force.iter_mut().zip(&bodies.mass) {
-            *f += self.g * m;
-        }
+        self.add_weight(bodies, forces);
     }
 }
 

@@ -1,4 +1,8 @@
-//! The force pipeline: the effects a scene names, in a fixed order, and nothing else.
+//! The granular model's force pipeline ([`BodyPipeline`]): the effects a scene names, in a
+//! fixed order, and nothing else; one effect a file (`contact.rs`, `gravity.rs`). It lives
+//! below the models because sample preparation (compaction) runs the contact effect too. The
+//! dlsm and beam2d models' pipelines (`ElementPipeline`, `PolygonPipeline`) are built the
+//! same way in their folders.
 //!
 //! An effect that a scene does not list is never constructed: no allocation, no loop, no
 //! branch in the hot path. The contact effect is monomorphised over its optional sub-models
@@ -70,15 +74,15 @@ pub trait Effect: Send {
     }
 }
 
-/// The effects of a scene in evaluation order.
-pub struct Pipeline {
+/// The effects of a granular scene in evaluation order, over its bodies.
+pub struct BodyPipeline {
     pub effects: Vec<Box<dyn Effect>>,
 }
 
-impl Pipeline {
+impl BodyPipeline {
     /// Builds exactly the effects asked for: a contact model and gravity (m/s²). The order
     /// of evaluation is fixed (contact, then body forces).
-    pub fn new(contact: Option<ContactParams>, gravity: Option<Vec3>) -> Pipeline {
+    pub fn new(contact: Option<ContactParams>, gravity: Option<Vec3>) -> BodyPipeline {
         let mut effects: Vec<Box<dyn Effect>> = Vec::new();
         if let Some(params) = contact {
             effects.push(build_contact(params));
@@ -86,7 +90,7 @@ impl Pipeline {
         if let Some(g) = gravity {
             effects.push(Box::new(Gravity::new(g)));
         }
-        Pipeline { effects }
+        BodyPipeline { effects }
     }
 
     pub fn accumulate(

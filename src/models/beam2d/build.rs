@@ -42,14 +42,7 @@ pub(super) fn make_beams(
     let young = material.young;
     let t = sample.info.thickness;
     let p = &sample.polygons;
-    let loose = match loading {
-        Beam2dLoading::Projectile {
-            polygon,
-            free: true,
-            ..
-        } => Some(*polygon),
-        _ => None,
-    };
+    let loose = loading.as_loading().loose_polygon();
     for s in &sample.sides {
         let (i, j) = (s.i as usize, s.j as usize);
         if loose.is_some_and(|k| k == i || k == j) {

@@ -111,7 +111,7 @@ impl Beam2d {
     /// from them.
     fn restart_dynamics(&mut self, time: f64, dt: f64) {
         let st = &mut self.state;
-        st.loading.prescribe(time, &mut st.polygons);
+        st.loading.as_loading().prescribe(time, &mut st.polygons);
         let counts = self
             .pipeline
             .evaluate(&st.polygons, &mut st.beams, time, &mut st.forces);
@@ -125,25 +125,20 @@ impl Beam2d {
         }
     }
 
-    /// The step at which the moduli test's first phase ends (none for other loadings).
-    fn phase_end(&self, clock: &Clock) -> u64 {
-        match &self.state.loading {
-            Beam2dLoading::ElasticModuli(d) if d.phase == 0 => clock.end_step / 2,
-            _ => u64::MAX,
-        }
+    /// Whether the loading's current phase ends at this step and another follows.
+    fn phase_ends(&self, clock: &Clock) -> bool {
+        let loading = self.state.loading.as_loading();
+        loading.phase_end(clock.end_step) == Some(clock.step)
     }
 
-    /// The moduli test's second phase: back to the initial state, then compress.
-    fn start_compression_phase(&mut self, clock: &Clock) {
+    /// The loading's next phase: back to the initial state, then on from there (the moduli
+    /// test's compression).
+    fn start_next_phase(&mut self, clock: &Clock) {
         let st = &mut self.state;
-        let start = st.start.as_ref().expect("kept for the moduli test");
+        let start = st.start.as_ref().expect("kept for a loading that restarts");
         st.polygons.q.clone_from(&start.q);
         st.polygons.v.clone_from(&start.v);
-        if let Beam2dLoading::ElasticModuli(d) = &mut st.loading {
-            d.phase = 1;
-            d.phase_start = clock.time;
-            d.sign = -1.0;
-        }
+        st.loading.as_loading_mut().next_phase(clock.time);
         self.restart_dynamics(clock.time, clock.dt);
     }
 }

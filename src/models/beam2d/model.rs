@@ -1,7 +1,6 @@
 //! The beam2d model as the runner drives it.
 
 use super::build::{critical_time_step, lattice, make_beams, polygon_pipeline};
-use super::report::fragments;
 use super::*;
 use crate::run::{BodiesView, Physics, Report};
 
@@ -60,7 +59,7 @@ impl Physics for Beam2d {
             )),
             _ => Integrator2d::VelocityVerlet,
         };
-        let start = matches!(loading, Beam2dLoading::ElasticModuli(_)).then(|| StartState {
+        let start = loading.as_loading().restarts().then(|| StartState {
             q: polygons.q.clone(),
             v: polygons.v.clone(),
         });
@@ -90,10 +89,11 @@ impl Physics for Beam2d {
             ));
         }
         let warnings = Vec::new();
-        let columns = loading.columns().to_vec();
-        let mut clock = Clock::planned(scene, cfg.material.young, dt, loading.end_time())?;
-        // The moduli test runs two phases, each to the loading's end time.
-        clock.end_step = loading.end_step(dt);
+        let load = loading.as_loading();
+        let columns = load.columns().to_vec();
+        let mut clock = Clock::planned(scene, cfg.material.young, dt, load.end_time())?;
+        // The moduli test runs two phases, each to the step that ends it.
+        clock.end_step = load.end_step(dt);
         let state = Beam2dState {
             forces: vec![[0.0; 3]; polygons.len()],
             momentum0: polygons.momentum(),
@@ -157,7 +157,7 @@ impl Physics for Beam2d {
             Integrator2d::Gear5(g) => g.predict(p.q.as_flattened_mut(), p.v.as_flattened_mut(), dt),
         }
         let t = clock.time + dt;
-        st.loading.prescribe(t, p);
+        st.loading.as_loading().prescribe(t, p);
         let counts = self.pipeline.evaluate(p, &mut st.beams, t, &mut st.forces);
         match &mut st.integrator {
             Integrator2d::VelocityVerlet => kick_dofs(
@@ -186,17 +186,18 @@ impl Physics for Beam2d {
     fn stopped(&self) -> bool {
         self.state
             .loading
+            .as_loading()
             .quiet_steps()
             .is_some_and(|q| self.state.steps_since_break >= q)
     }
 
     fn output_due(&self, clock: &Clock) -> bool {
-        clock.step == self.phase_end(clock)
+        self.phase_ends(clock)
     }
 
     fn after_row(&mut self, clock: &Clock, _series: &Series) {
-        if clock.step == self.phase_end(clock) {
-            self.start_compression_phase(clock);
+        if self.phase_ends(clock) {
+            self.start_next_phase(clock);
         }
     }
 
@@ -220,40 +221,11 @@ impl Physics for Beam2d {
 impl Report for Beam2d {
     fn row(&mut self, clock: &Clock) -> Vec<f64> {
         let st = &mut self.state;
-        let p = &st.polygons;
-        let ke = p.kinetic_energy();
-        let broken = st.beams.broken() as f64;
-        match st.loading.driven() {
-            Some(d) => {
-                let (strain, stress, lateral) = d.measure(p, &st.forces);
-                vec![
-                    clock.time,
-                    strain,
-                    stress,
-                    lateral,
-                    ke,
-                    st.contacts as f64,
-                    broken,
-                ]
-            }
-            None => {
-                let momentum = p.momentum();
-                if st.momentum_scale > 0.0 {
-                    let drift = (momentum - st.momentum0).norm() / st.momentum_scale;
-                    st.max_momentum_drift = st.max_momentum_drift.max(drift);
-                }
-                let (_, count) = fragments(p, &st.beams);
-                vec![
-                    clock.time,
-                    ke,
-                    st.contacts as f64,
-                    broken,
-                    count as f64,
-                    momentum.x,
-                    momentum.y,
-                ]
-            }
+        if st.loading.as_loading().conserves_momentum() && st.momentum_scale > 0.0 {
+            let drift = (st.polygons.momentum() - st.momentum0).norm() / st.momentum_scale;
+            st.max_momentum_drift = st.max_momentum_drift.max(drift);
         }
+        self.state.loading.as_loading().row(self, clock.time)
     }
 
     fn summary(&self, run: &RunInfo, m: &mut Map<String, Value>) {
@@ -282,29 +254,8 @@ impl Report for Beam2d {
             "kinetic_energy_final".into(),
             self.state.polygons.kinetic_energy().into(),
         );
-        self.state.loading.summarize(run.series, m);
-        match &self.state.loading {
-            Beam2dLoading::ConfinedCompression(_) => {
-                let all = &self.state.beams.rest_direction;
-                let baseline = all.iter().filter(|d| d.y.abs() <= 0.5).count() as f64
-                    / all.len().max(1) as f64;
-                m.insert("beams_lateral_fraction".into(), baseline.into());
-                m.insert(
-                    "broken_beams_lateral_fraction".into(),
-                    json!(self.broken_lateral_fraction(f64::INFINITY)),
-                );
-                if let Some(t) = m.get("peak_time").and_then(Value::as_f64) {
-                    m.insert(
-                        "broken_beams_lateral_fraction_at_peak".into(),
-                        json!(self.broken_lateral_fraction(t)),
-                    );
-                }
-            }
-            Beam2dLoading::Explosion { .. } | Beam2dLoading::Projectile { .. } => {
-                self.fragment_summary(m);
-            }
-            Beam2dLoading::ElasticModuli(_) => {}
-        }
+        let loading = self.state.loading.as_loading();
+        loading.summarize(self, run.series, m);
     }
 
     fn snapshot(&self) -> Vec<(&'static str, String)> {

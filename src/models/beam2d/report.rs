@@ -85,6 +85,8 @@ impl Beam2d {
         Some(lateral as f64 / broken.len() as f64)
     }
 
+    /// The fragments' keys of summary.json: count, largest share, the power law, the momentum
+    /// drift and what stopped the run.
     pub(super) fn fragment_summary(&self, m: &mut Map<String, Value>) {
         let (_, masses, _) = self.fragment_masses();
         let total: f64 = masses.iter().sum();
@@ -104,7 +106,12 @@ impl Beam2d {
             "momentum_drift_relative".into(),
             self.state.max_momentum_drift.into(),
         );
-        let quiet = self.state.loading.quiet_steps().unwrap_or(u64::MAX);
+        let quiet = self
+            .state
+            .loading
+            .as_loading()
+            .quiet_steps()
+            .unwrap_or(u64::MAX);
         m.insert(
             "stopped_by".into(),
             if self.state.steps_since_break >= quiet {
@@ -114,15 +121,6 @@ impl Beam2d {
             }
             .into(),
         );
-        if let Beam2dLoading::Explosion {
-            explosive_mass,
-            kicked,
-            ..
-        } = &self.state.loading
-        {
-            m.insert("explosive_mass".into(), (*explosive_mass).into());
-            m.insert("kicked_polygons".into(), (*kicked).into());
-        }
     }
 
     /// fragments.csv: one line per fragment (components over intact beams).

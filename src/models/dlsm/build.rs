@@ -30,28 +30,7 @@ impl Dlsm {
         } else {
             None
         };
-        let broken = tensile_strength.map(|_| BrokenContacts::new(m.friction, m.poisson));
-        let ground = match (
-            &loading,
-            m.contact_stiffness,
-            scene.has_effect(EffectKind::Contact),
-        ) {
-            (DlsmLoading::Drop(d), Some(k), true) => Some(GroundContact::new(
-                d.ground_point,
-                d.ground_normal,
-                k,
-                if scene.has_effect(EffectKind::Friction) {
-                    m.friction
-                } else {
-                    0.0
-                },
-                bodies.len(),
-            )),
-            _ => None,
-        };
-        let gravity = scene
-            .has_effect(EffectKind::Gravity)
-            .then(|| Vec3::from(scene.gravity.acceleration));
+        let pipeline = ElementPipeline::build(scene, &cfg, &loading, bodies.len());
         let dt_critical = bonds.critical_time_step(&bodies.mass);
         let dt_rotational = rotational_time_step(bodies, bonds);
         // Eq. 39 bounds the translational springs; the rotational ones (K S, Eq. 31) are
@@ -61,7 +40,7 @@ impl Dlsm {
             DlsmLoading::Brazilian(l) => l.platens.iter().collect(),
             _ => Vec::new(),
         };
-        for g in ground.iter().chain(platens) {
+        for g in pipeline.ground.iter().chain(platens) {
             let lightest = bodies.mass.iter().copied().fold(f64::INFINITY, f64::min);
             dt_limit = dt_limit.min((lightest / g.stiffness).sqrt());
         }
@@ -108,7 +87,6 @@ impl Dlsm {
             sample: info.clone(),
             integrator: TchamwaWielgosz::new(phi),
             tensile_strength,
-            gravity,
             dt_critical,
             dt_rotational,
             energy_fault: None,
@@ -119,8 +97,7 @@ impl Dlsm {
                 broken_order: Vec::new(),
                 break_log: Vec::new(),
                 first_break: None,
-                broken,
-                ground,
+                pipeline,
                 loading,
                 stopped: false,
             },

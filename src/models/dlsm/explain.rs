@@ -3,6 +3,7 @@
 use std::fmt::Write;
 
 use super::loading::DlsmLoading;
+use super::pipeline::ElementPipeline;
 use super::scene::{DlsmScene, Seeds};
 use super::{DEFAULT_PHI, sample};
 use crate::error::Result;
@@ -42,32 +43,7 @@ pub fn explain(scene: &Scene, cfg: &DlsmScene) -> Result<String> {
         s,
         "effects, in evaluation order (after the cohesive contacts):"
     );
-    let mut built = Vec::new();
-    if scene.has_effect(EffectKind::Fracture) {
-        built.push(format!(
-            "fracture: a contact breaks for good when sigma_xx > {:e} Pa (Eq. 36) and becomes a frictional (mu = {}) non-cohesive polyhedron contact (GJK/EPA)",
-            m.tensile_strength.unwrap_or(0.0),
-            m.friction
-        ));
-    }
-    if scene.has_effect(EffectKind::Contact) {
-        built.push(format!(
-            "contact: elements against the ground plane, stiffness {:e} N/m{}",
-            m.contact_stiffness.unwrap_or(0.0),
-            if scene.has_effect(EffectKind::Friction) {
-                format!(", Coulomb friction mu = {}", m.friction)
-            } else {
-                ", frictionless".to_string()
-            }
-        ));
-    }
-    if scene.has_effect(EffectKind::Gravity) {
-        let g = scene.gravity.acceleration;
-        built.push(format!(
-            "gravity: m g, g = ({}, {}, {}) m/s²",
-            g[0], g[1], g[2]
-        ));
-    }
+    let built = ElementPipeline::describe(scene, cfg);
     if built.is_empty() {
         let _ = writeln!(s, "  (none: the cohesive lattice alone)");
     }

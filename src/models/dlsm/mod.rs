@@ -5,7 +5,7 @@
 //! loading.prescribe        prescribed velocity components for the step
 //! kick_drift               Tchamwa–Wielgosz first stage (Eq. 37–38)
 //! bonds.evaluate           cohesive forces and moments (Eq. 1–34), breaking (Eq. 36)
-//! effects                  broken contacts (fracture), ground (contact, friction), gravity
+//! pipeline.accumulate      broken contacts (fracture), ground (contact, friction), gravity
 //! loading.constrain        reactions out of the prescribed components
 //! kick                     second stage
 //! every output.every steps: check finite, a row of series.csv, stop after failure
@@ -20,6 +20,7 @@ mod build;
 mod explain;
 pub mod loading;
 mod model;
+pub mod pipeline;
 mod report;
 pub mod sample;
 pub mod scene;
@@ -29,7 +30,6 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use crate::bond::dlsm::DlsmBonds;
-use crate::contact::polyhedron::{BrokenContacts, GroundContact};
 use crate::error::{Error, Result};
 use crate::integrate::TchamwaWielgosz;
 use crate::output::vtk;
@@ -39,6 +39,7 @@ use crate::scene::{DtSpec, EffectKind, IntegratorKind, Scene};
 use crate::shape::polyhedron::Polyhedron;
 use crate::state::{Bodies, Forces, Vec3};
 use loading::{Brazilian, DlsmLoading, RowInputs, Setting};
+use pipeline::ElementPipeline;
 use sample::{DlsmSample, DlsmSampleInfo};
 use scene::DlsmScene;
 
@@ -85,8 +86,6 @@ pub struct Dlsm {
     pub integrator: TchamwaWielgosz,
     /// `fracture`: the tensile strength of the cohesive contacts.
     pub tensile_strength: Option<f64>,
-    /// `gravity`.
-    pub gravity: Option<Vec3>,
     /// Eq. 39 without its factor (s), and the rotational counterpart.
     pub dt_critical: f64,
     pub dt_rotational: f64,
@@ -107,10 +106,9 @@ pub struct DlsmState {
     pub broken_order: Vec<u32>,
     pub break_log: Vec<(u64, Vec3)>,
     pub first_break: Option<FirstBreak>,
-    /// `fracture`: the contacts broken bonds leave.
-    pub broken: Option<BrokenContacts>,
-    /// `contact` (with `friction`): the ground.
-    pub ground: Option<GroundContact>,
+    /// The effects after the cohesive lattice: broken contacts, ground, gravity (only those
+    /// the scene names; the contacts' history is kept, gravity is not written).
+    pub pipeline: ElementPipeline,
     pub loading: DlsmLoading,
     /// True once the loading has found the specimen failed.
     pub stopped: bool,

@@ -73,14 +73,9 @@ impl Physics for Dlsm {
         let ids: Vec<usize> = state.broken_order.iter().map(|&c| c as usize).collect();
         model.bonds.break_contacts(&ids);
         // Effects the scene does not build stay unbuilt.
-        let (broken, ground) = (model.state.broken.is_some(), model.state.ground.is_some());
+        let built = std::mem::take(&mut model.state.pipeline);
         model.state = state;
-        if !broken {
-            model.state.broken = None;
-        }
-        if !ground {
-            model.state.ground = None;
-        }
+        model.state.pipeline.keep_built(built);
         Ok(model)
     }
 
@@ -170,8 +165,8 @@ impl Report for Dlsm {
             } else {
                 0.0
             },
-            contact_energy: st.ground.as_ref().map_or(0.0, |g| g.energy),
-            ground_contacts: st.ground.as_ref().map_or(0, |g| g.contacts),
+            contact_energy: st.pipeline.ground.as_ref().map_or(0.0, |g| g.energy),
+            ground_contacts: st.pipeline.ground.as_ref().map_or(0, |g| g.contacts),
         };
         st.loading.as_loading_mut().row(&inputs)
     }

@@ -4,7 +4,7 @@ use super::*;
 
 impl Dlsm {
     /// Forces and torques at the current positions, which are those of time `at`: bonds,
-    /// effects, platens, reactions. `clock` is where the run is (breaks are logged at its step).
+    /// the pipeline's effects, platens, reactions. `clock` is where the run is (breaks are logged at its step).
     pub(super) fn evaluate_forces(&mut self, clock: &Clock, at: f64) {
         let strength = self.tensile_strength;
         let st = &mut self.state;
@@ -13,17 +13,8 @@ impl Dlsm {
             self.record_breaks(clock, &broke);
         }
         let st = &mut self.state;
-        if let Some(b) = &mut st.broken {
-            b.accumulate(&st.bodies, &self.shapes, &mut st.forces, clock.dt);
-        }
-        if let Some(g) = &mut st.ground {
-            g.accumulate(&st.bodies, &self.shapes, &mut st.forces, clock.dt);
-        }
-        if let Some(g) = self.gravity {
-            for (f, &m) in st.forces.force.iter_mut().zip(&st.bodies.mass) {
-                *f += g * m;
-            }
-        }
+        st.pipeline
+            .accumulate(&st.bodies, &self.shapes, &mut st.forces, clock.dt);
         let loading = st.loading.as_loading_mut();
         loading.press(&st.bodies, &self.shapes, &mut st.forces, at, clock.dt);
         loading.constrain(&mut st.forces);
@@ -46,7 +37,7 @@ impl Dlsm {
         for &c in broke {
             st.broken_order.push(c as u32);
             st.break_log.push((clock.step, mid(c)));
-            if let Some(b) = &mut st.broken {
+            if let Some(b) = &mut st.pipeline.broken {
                 let k = self.bonds.young * self.bonds.area[c] / self.bonds.length0[c];
                 b.add(self.bonds.pair[c], k);
             }

@@ -5,14 +5,14 @@ use super::*;
 
 /// The force pipeline of exactly the effects a granular scene names. `friction` overrides
 /// the material's coefficient (sample preparation compacts with its own).
-pub fn pipeline(scene: &Scene, cfg: &GranularScene) -> Pipeline {
+pub fn pipeline(scene: &Scene, cfg: &GranularScene) -> BodyPipeline {
     pipeline_for(scene, cfg, false)
 }
 
 /// [`pipeline`] for bodies that hold non-spherical shapes when `shaped` (a sample read from a
 /// data file of the Fractum LAMMPS plugin may, whatever the scene's own keys say): their
 /// contacts take the shapes' path.
-pub(super) fn pipeline_for(scene: &Scene, cfg: &GranularScene, shaped: bool) -> Pipeline {
+pub(super) fn pipeline_for(scene: &Scene, cfg: &GranularScene, shaped: bool) -> BodyPipeline {
     let contact = scene.has_effect(EffectKind::Contact).then(|| {
         let mut params = contact_params(scene, cfg, None);
         params.shapes |= shaped;
@@ -21,7 +21,7 @@ pub(super) fn pipeline_for(scene: &Scene, cfg: &GranularScene, shaped: bool) -> 
     let gravity = scene
         .has_effect(EffectKind::Gravity)
         .then(|| Vec3::from(scene.gravity.acceleration));
-    Pipeline::new(contact, gravity)
+    BodyPipeline::new(contact, gravity)
 }
 
 /// The contact model a granular scene asks for.

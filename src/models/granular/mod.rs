@@ -28,7 +28,7 @@ mod step;
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
-use crate::effects::{ContactParams, Pipeline, StepContext};
+use crate::effects::{BodyPipeline, ContactParams, StepContext};
 use crate::error::{Error, Result};
 use crate::fracture::{FractureParams, GrainFracture};
 use crate::integrate::{StepControl, VelocityVerlet, rayleigh_time_step};
@@ -56,7 +56,7 @@ pub type Simulation = Runner<Granular>;
 /// persistent state.
 pub struct Granular {
     pub cfg: GranularScene,
-    pub pipeline: Pipeline,
+    pub pipeline: BodyPipeline,
     pub integrator: VelocityVerlet,
     /// Gravity (m/s²) with the `gravity` effect, for the energy account.
     pub gravity: Option<Vec3>,
