@@ -519,12 +519,23 @@ const TEAM_MIN_BODIES: usize = 256;
 /// integrator: contiguous halves made the caller wait half the time), and each member gets
 /// the same blocks in every pass of a step, so their data stays in its core's cache.
 pub fn team_blocks(n: usize) -> Option<Vec<Range<usize>>> {
-    if team_size() == 1 || n < TEAM_MIN_BODIES {
+    if n < TEAM_MIN_BODIES {
+        return None;
+    }
+    team_parts(n, BLOCK)
+}
+
+/// `0..n` in parts of `per_part` consecutive items for [`on_team`] when this thread has a
+/// team and there are at least two parts; `None` otherwise (the caller runs the pass here).
+/// For passes over items cheap enough that a part must hold more than [`team_blocks`]' 32.
+pub fn team_parts(n: usize, per_part: usize) -> Option<Vec<Range<usize>>> {
+    let per_part = per_part.max(1);
+    if team_size() == 1 || n <= per_part {
         return None;
     }
     Some(
-        (0..n.div_ceil(BLOCK))
-            .map(|k| k * BLOCK..((k + 1) * BLOCK).min(n))
+        (0..n.div_ceil(per_part))
+            .map(|k| k * per_part..((k + 1) * per_part).min(n))
             .collect(),
     )
 }

@@ -8,6 +8,7 @@ use nalgebra::{Matrix3, UnitQuaternion};
 use serde::{Deserialize, Serialize};
 
 use super::pair::PairOut;
+use crate::parallel::{on_team, team_parts};
 use crate::probe::modes::{Dof, MassScale, highest_eigenvalue, largest_motion};
 use crate::state::{Bodies, Vec3};
 /// `ContactRecord::j` of a contact with wall w: `WALL | w`.
@@ -86,6 +87,57 @@ pub(crate) fn give_rows(rows: Vec<f64>) {
     ROWS.with(|r| *r.borrow_mut() = rows);
 }
 
+/// The contact records of each body, in record order: body `i`'s are `records[k]` for `k` in
+/// [`RecordsByBody::of`]`(i)` (a record of two bodies is listed under both; one of a wall
+/// under its body). Built by counting, kept between steps so that a step allocates nothing
+/// once it has grown.
+#[derive(Debug, Clone, Default)]
+pub struct RecordsByBody {
+    offsets: Vec<u32>,
+    entries: Vec<u32>,
+}
+
+impl RecordsByBody {
+    /// Indexes `records` over `n` bodies.
+    pub fn build(&mut self, n: usize, records: &[ContactRecord]) {
+        let offsets = &mut self.offsets;
+        offsets.clear();
+        offsets.resize(n + 1, 0);
+        for r in records {
+            offsets[r.i as usize + 1] += 1;
+            if r.wall().is_none() {
+                offsets[r.j as usize + 1] += 1;
+            }
+        }
+        for k in 0..n {
+            offsets[k + 1] += offsets[k];
+        }
+        self.entries.clear();
+        self.entries.resize(offsets[n] as usize, 0);
+        // Filled at each body's next free place: offsets[i] walks to offsets[i + 1] and is
+        // moved back after.
+        for (k, r) in records.iter().enumerate() {
+            let i = r.i as usize;
+            self.entries[offsets[i] as usize] = k as u32;
+            offsets[i] += 1;
+            if r.wall().is_none() {
+                let j = r.j as usize;
+                self.entries[offsets[j] as usize] = k as u32;
+                offsets[j] += 1;
+            }
+        }
+        for k in (1..=n).rev() {
+            offsets[k] = offsets[k - 1];
+        }
+        offsets[0] = 0;
+    }
+
+    /// The indices of body `i`'s records, in record order.
+    pub fn of(&self, i: usize) -> &[u32] {
+        &self.entries[self.offsets[i] as usize..self.offsets[i + 1] as usize]
+    }
+}
+
 /// A bound on the highest frequency (rad/s) of the recorded contacts' linearised springs,
 /// translation and rotation (block Gershgorin over the bodies, docs/performance.md): each
 /// contact loads each of its bodies by [`contact_load`], a body's row sums its contacts'
@@ -93,7 +145,6 @@ pub(crate) fn give_rows(rows: Vec<f64>) {
 /// equal spheres (`sqrt(2 k / m)`); within 1.3-1.5x of the computed highest frequency
 /// ([`records_highest_frequency`]) in the main job.
 pub fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangential: f64) -> f64 {
-    let mut rows = take_rows(bodies.len());
     let load = |i: usize, r: &ContactRecord| {
         contact_load(
             &r.point,
@@ -106,16 +157,43 @@ pub fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangent
             tangential,
         )
     };
-    for r in records {
-        let i = r.i as usize;
-        let own = load(i, r);
+    // A contact's shares of its two bodies' rows (the second 0 for a wall).
+    let shares = |r: &ContactRecord| -> [f64; 2] {
+        let own = load(r.i as usize, r);
         match r.wall() {
-            Some(_) => rows[i] += frequency_share(own, None),
+            Some(_) => [frequency_share(own, None), 0.0],
             None => {
-                let j = r.j as usize;
-                let other = load(j, r);
-                rows[i] += frequency_share(own, Some(other));
-                rows[j] += frequency_share(other, Some(own));
+                let other = load(r.j as usize, r);
+                [
+                    frequency_share(own, Some(other)),
+                    frequency_share(other, Some(own)),
+                ]
+            }
+        }
+    };
+    let mut rows = take_rows(bodies.len());
+    let mut add = |r: &ContactRecord, [own, other]: [f64; 2]| {
+        rows[r.i as usize] += own;
+        if r.wall().is_none() {
+            rows[r.j as usize] += other;
+        }
+    };
+    // The loads (an eigenvalue each) are the cost: with a team they are computed in blocks
+    // of records across its members, and the rows summed here in record order as on one
+    // thread, so the bound has the same bits whatever the thread count. (Serial, this pass
+    // was a sixth of the caller's time in the main job on two threads, the member waiting.)
+    match team_parts(records.len(), RECORDS_PER_PART) {
+        Some(parts) => {
+            let computed = on_team(parts, |_, part| {
+                records[part].iter().map(shares).collect::<Vec<_>>()
+            });
+            for (r, s) in records.iter().zip(computed.into_iter().flatten()) {
+                add(r, s);
+            }
+        }
+        None => {
+            for r in records {
+                add(r, shares(r));
             }
         }
     }
@@ -123,6 +201,9 @@ pub fn records_max_frequency(records: &[ContactRecord], bodies: &Bodies, tangent
     give_rows(rows);
     highest
 }
+
+/// Contact records per part of [`records_max_frequency`] on a team.
+const RECORDS_PER_PART: usize = 256;
 
 /// The highest frequency (rad/s) of the recorded contacts' linearised springs, computed rather
 /// than bounded: the largest eigenvalue of `M^-1/2 K M^-1/2` by power iteration, with K the

@@ -29,7 +29,7 @@ use crate::contact::records::{
     ContactRecord, ContactRecords, WALL, records_max_frequency, tangential_ratio,
 };
 use crate::error::{Error, Result};
-use crate::parallel::{on_team, split_ranges, team_blocks, team_size};
+use crate::parallel::{on_team, split_ranges, team_blocks, team_parts, team_size};
 use crate::state::{Bodies, Forces, Vec3, Walls};
 
 /// Parameters of the contact effect.
@@ -219,20 +219,47 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
     /// motion since the last one to its travel (a body new since then starts from here).
     fn place(&mut self, bodies: &Bodies) {
         let n = bodies.len();
-        self.placements.clear();
-        self.placements.extend(
-            (0..n).map(|i| Placement::of(&bodies.pos[i], &bodies.orientation[i], &bodies.shape[i])),
-        );
+        let placed =
+            |i: usize| Placement::of(&bodies.pos[i], &bodies.orientation[i], &bodies.shape[i]);
         self.travel.resize(n, 0.0);
         self.last_pose.truncate(n);
         let known = self.last_pose.len();
         self.last_pose
             .extend((known..n).map(|i| (bodies.pos[i], bodies.orientation[i])));
-        for (i, (x, q)) in self.last_pose.iter_mut().enumerate().take(known) {
-            let (pos, orientation) = (&bodies.pos[i], &bodies.orientation[i]);
-            self.travel[i] += travel_step(x, q, pos, orientation, bodies.radius[i]);
-            *x = *pos;
-            *q = *orientation;
+        // Each body's own placement, travel and pose: with a team in blocks across it.
+        let moved = |i: usize, travel: &mut f64, (x, q): &mut (Vec3, UnitQuaternion<f64>)| {
+            if i < known {
+                let (pos, orientation) = (&bodies.pos[i], &bodies.orientation[i]);
+                *travel += travel_step(x, q, pos, orientation, bodies.radius[i]);
+                *x = *pos;
+                *q = *orientation;
+            }
+        };
+        match team_blocks(n) {
+            Some(blocks) => {
+                self.placements.resize(n, placed(0));
+                let work: Vec<_> = split_ranges(&mut self.placements, &blocks)
+                    .into_iter()
+                    .zip(split_ranges(&mut self.travel, &blocks))
+                    .zip(split_ranges(&mut self.last_pose, &blocks))
+                    .zip(blocks.iter().cloned())
+                    .collect();
+                on_team(work, |_, (((placements, travel), poses), range)| {
+                    for (k, i) in range.enumerate() {
+                        placements[k] = placed(i);
+                        moved(i, &mut travel[k], &mut poses[k]);
+                    }
+                });
+            }
+            None => {
+                self.placements.clear();
+                self.placements.extend((0..n).map(placed));
+                for (i, (travel, pose)) in
+                    self.travel.iter_mut().zip(&mut self.last_pose).enumerate()
+                {
+                    moved(i, travel, pose);
+                }
+            }
         }
     }
 

@@ -206,8 +206,19 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         }
         if POLY {
             // Chunk order is row order: the same records as one thread, in the same order.
-            for acc in &accs {
-                self.records.list.extend_from_slice(&acc.records);
+            // The first chunk's list is taken over rather than copied (the list is emptied
+            // before the pair loop; its buffer goes to the chunk for the next step).
+            let mut taken = false;
+            if let Some(first) = accs.first_mut()
+                && self.records.list.is_empty()
+            {
+                std::mem::swap(&mut self.records.list, &mut first.records);
+                taken = true;
+            }
+            for (k, acc) in accs.iter().enumerate() {
+                if k > 0 || !taken {
+                    self.records.list.extend_from_slice(&acc.records);
+                }
                 self.records.dissipated += acc.dissipated;
             }
         }

@@ -21,49 +21,110 @@ struct SurfaceLoop<'a> {
 impl SurfaceLoop<'_> {
     /// Evaluates `kernel` (a body, its tangential displacement and held radius) on each of
     /// `candidates`, the candidate list `w`, adds each contact's force and torque to its body
-    /// and its record (or stiffness), and hands it to `surface`.
+    /// and its record (or stiffness), and hands it to `surface`. With a team (POLY) the kernel
+    /// runs in parts of the list across its members (each candidate's own memory only) and the
+    /// contacts are added here in candidate order, as on one thread: the same bits.
     fn run<const FRIC: bool, const POLY: bool>(
         &mut self,
         w: usize,
         candidates: &[u32],
-        mut kernel: impl FnMut(&BodyAt, &mut Vec3, &mut f64) -> Option<PairOut>,
+        kernel: impl Fn(&BodyAt, &mut Vec3, &mut f64) -> Option<PairOut> + Sync,
         mut surface: impl FnMut(&PairOut),
     ) {
-        let (mut dummy, mut dummy_radius) = (Vec3::zeros(), 0.0);
-        for (c, &i) in candidates.iter().enumerate() {
-            let i = i as usize;
-            let h = if FRIC {
-                &mut self.hist[w][c]
-            } else {
-                &mut dummy
-            };
-            let held = if POLY {
-                &mut self.radius[w][c]
-            } else {
-                &mut dummy_radius
-            };
+        let (bodies, placements) = (self.bodies, self.placements);
+        let evaluate = |i: u32, h: &mut Vec3, held: &mut f64| {
             let body = BodyAt {
-                bodies: self.bodies,
-                placements: self.placements,
-                i,
+                bodies,
+                placements,
+                i: i as usize,
             };
-            let Some(p) = kernel(&body, h, held) else {
-                continue;
-            };
-            self.forces.force[i] += p.force;
-            if FRIC || POLY {
-                self.forces.torque[i] += p.torque_i;
+            kernel(&body, h, held)
+        };
+        // Spheres' wall contacts cost a few tens of nanoseconds: parts would not pay.
+        let parts = if POLY {
+            team_parts(candidates.len(), CANDIDATES_PER_PART)
+        } else {
+            None
+        };
+        let Some(parts) = parts else {
+            let (mut dummy, mut dummy_radius) = (Vec3::zeros(), 0.0);
+            for (c, &i) in candidates.iter().enumerate() {
+                let h = if FRIC {
+                    &mut self.hist[w][c]
+                } else {
+                    &mut dummy
+                };
+                let held = if POLY {
+                    &mut self.radius[w][c]
+                } else {
+                    &mut dummy_radius
+                };
+                if let Some(p) = evaluate(i, h, held) {
+                    self.add::<FRIC, POLY>(i as usize, w, &p);
+                    surface(&p);
+                }
             }
-            if POLY {
-                self.records.list.push(p.record(i, WALL | w as u32));
-                self.records.dissipated += p.c.dissipated;
-            } else {
-                self.stiffness[i] += p.c.stiffness;
+            return;
+        };
+        // A candidate's memory of what the variant keeps (the other lists are empty).
+        fn pieces<'a, T>(
+            data: &'a mut [Vec<T>],
+            w: usize,
+            on: bool,
+            parts: &[Range<usize>],
+        ) -> Vec<&'a mut [T]> {
+            match data.get_mut(w) {
+                Some(list) if on => split_ranges(list, parts),
+                _ => parts.iter().map(|_| &mut [][..]).collect(),
             }
-            surface(&p);
+        }
+        let work: Vec<_> = parts
+            .iter()
+            .cloned()
+            .zip(pieces(self.hist, w, FRIC, &parts))
+            .zip(pieces(self.radius, w, POLY, &parts))
+            .collect();
+        let found = on_team(work, |_, ((range, hist), radius)| {
+            let (mut dummy, mut dummy_radius) = (Vec3::zeros(), 0.0);
+            range
+                .enumerate()
+                .map(|(k, c)| {
+                    let h = if FRIC { &mut hist[k] } else { &mut dummy };
+                    let held = if POLY {
+                        &mut radius[k]
+                    } else {
+                        &mut dummy_radius
+                    };
+                    evaluate(candidates[c], h, held)
+                })
+                .collect::<Vec<_>>()
+        });
+        for (&i, p) in candidates.iter().zip(found.into_iter().flatten()) {
+            if let Some(p) = p {
+                self.add::<FRIC, POLY>(i as usize, w, &p);
+                surface(&p);
+            }
+        }
+    }
+
+    /// Adds the contact `p` of body `i` with surface `w` to the body's sums and the records.
+    #[inline(always)]
+    fn add<const FRIC: bool, const POLY: bool>(&mut self, i: usize, w: usize, p: &PairOut) {
+        self.forces.force[i] += p.force;
+        if FRIC || POLY {
+            self.forces.torque[i] += p.torque_i;
+        }
+        if POLY {
+            self.records.list.push(p.record(i, WALL | w as u32));
+            self.records.dissipated += p.c.dissipated;
+        } else {
+            self.stiffness[i] += p.c.stiffness;
         }
     }
 }
+
+/// Wall candidates per part of [`SurfaceLoop::run`] on a team.
+const CANDIDATES_PER_PART: usize = 32;
 
 impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FRIC, POLY> {
     pub(super) fn walls_serial(
