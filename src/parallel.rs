@@ -7,8 +7,8 @@
 //! hand-off per call).
 //!
 //! Beside the pool a run has a [`Team`]: threads that stay awake while the run advances and
-//! take the granular step's regions (pair loop, force merge, integrator, fracture check,
-//! neighbour rows) through [`on_team`]. Rayon's workers sleep between regions and took tens of
+//! take the granular step's regions (pair loop, force merge, integrator, placements, wall
+//! contacts, fracture check, springs, frequency bound, neighbour rows) through [`on_team`]. Rayon's workers sleep between regions and took tens of
 //! microseconds to wake on the CI machine, which made a second thread useless at 1000 bodies.
 
 use std::any::Any;
