@@ -8,7 +8,7 @@
 
 use rayon::prelude::*;
 
-use crate::parallel::{on_team, team_blocks, threads_here};
+use crate::parallel::{on_team, split_ranges, team_blocks, threads_here};
 use crate::state::{Vec3, Walls};
 
 /// Verlet half list of body pairs.
@@ -86,40 +86,52 @@ impl PairList {
         let rmax = radius.iter().copied().fold(0.0, f64::max);
         let grid = CellGrid::new(pos, 2.0 * rmax + self.skin);
         let skin = self.skin;
-        let row = |i: usize| {
-            let mut row = Vec::new();
-            let xi = pos[i];
-            let ri = radius[i];
-            grid.for_each_near(&xi, |j| {
-                if j > i {
-                    let cut = ri + radius[j] + skin;
-                    if (xi - pos[j]).norm_squared() < cut * cut {
-                        row.push(j as u32);
+        // The rows of `range`: each row's partner count and the partners, row after row (no
+        // list per row: one build of 8600 bodies allocated 8600 of them).
+        let rows_of = |range: std::ops::Range<usize>| {
+            let mut counts = Vec::with_capacity(range.len());
+            let mut partners = Vec::new();
+            for i in range {
+                let start = partners.len();
+                let xi = pos[i];
+                let ri = radius[i];
+                grid.for_each_near(&xi, |j| {
+                    if j > i {
+                        let cut = ri + radius[j] + skin;
+                        if (xi - pos[j]).norm_squared() < cut * cut {
+                            partners.push(j as u32);
+                        }
                     }
-                }
-            });
-            row.sort_unstable();
-            row
+                });
+                partners[start..].sort_unstable();
+                counts.push((partners.len() - start) as u32);
+            }
+            (counts, partners)
         };
-        let rows: Vec<Vec<u32>> = if let Some(parts) = team_blocks(n) {
-            on_team(parts, |_, r| r.map(row).collect::<Vec<_>>())
-                .into_iter()
-                .flatten()
-                .collect()
+        let parts: Vec<(Vec<u32>, Vec<u32>)> = if let Some(parts) = team_blocks(n) {
+            on_team(parts, |_, r| rows_of(r))
         } else if threads_here() > 1 {
-            (0..n).into_par_iter().with_min_len(256).map(row).collect()
+            let ranges: Vec<_> = (0..n)
+                .step_by(256)
+                .map(|a| a..(a + 256).min(n))
+                .collect();
+            ranges.into_par_iter().map(rows_of).collect()
         } else {
-            (0..n).map(row).collect()
+            vec![rows_of(0..n)]
         };
         self.offsets.clear();
         self.offsets.reserve(n + 1);
         self.offsets.push(0);
-        let total: usize = rows.iter().map(Vec::len).sum();
+        let total: usize = parts.iter().map(|(_, p)| p.len()).sum();
         self.partners.clear();
         self.partners.reserve(total);
-        for row in &rows {
-            self.partners.extend_from_slice(row);
-            self.offsets.push(self.partners.len() as u32);
+        let mut end = 0u32;
+        for (counts, partners) in &parts {
+            self.partners.extend_from_slice(partners);
+            for &c in counts {
+                end += c;
+                self.offsets.push(end);
+            }
         }
         self.build_transpose(n);
         self.ref_pos.clear();
@@ -173,7 +185,7 @@ impl PairList {
 
 /// Carries per-pair data (contact history) from an old list to a new one: pairs present in
 /// both keep their value, new pairs start at `T::default()`.
-pub fn transfer_pair_data<T: Copy + Default>(
+pub fn transfer_pair_data<T: Copy + Default + Send + Sync>(
     old_offsets: &[u32],
     old_partners: &[u32],
     old: &[T],
@@ -184,17 +196,36 @@ pub fn transfer_pair_data<T: Copy + Default>(
         return out;
     }
     let rows = (new.offsets.len() - 1).min(old_offsets.len().saturating_sub(1));
-    for i in 0..rows {
-        let (mut a, a_end) = (old_offsets[i] as usize, old_offsets[i + 1] as usize);
-        for b in new.row(i) {
-            let j = new.partners[b];
-            while a < a_end && old_partners[a] < j {
-                a += 1;
-            }
-            if a < a_end && old_partners[a] == j {
-                out[b] = old[a];
+    // Rows `range` into `out`, the slots from row `range.start`'s first on.
+    let fill = |range: std::ops::Range<usize>, out: &mut [T]| {
+        let base = new.offsets[range.start] as usize;
+        for i in range {
+            let (mut a, a_end) = (old_offsets[i] as usize, old_offsets[i + 1] as usize);
+            for b in new.row(i) {
+                let j = new.partners[b];
+                while a < a_end && old_partners[a] < j {
+                    a += 1;
+                }
+                if a < a_end && old_partners[a] == j {
+                    out[b - base] = old[a];
+                }
             }
         }
+    };
+    // With a team, in blocks of rows across it (each row's slots are its own).
+    match team_blocks(rows) {
+        Some(blocks) => {
+            let slots: Vec<_> = blocks
+                .iter()
+                .map(|r| new.offsets[r.start] as usize..new.offsets[r.end] as usize)
+                .collect();
+            let work: Vec<_> = split_ranges(&mut out, &slots)
+                .into_iter()
+                .zip(blocks)
+                .collect();
+            on_team(work, |_, (out, rows)| fill(rows, out));
+        }
+        None => fill(0..rows, &mut out),
     }
     out
 }

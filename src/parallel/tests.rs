@@ -5,7 +5,8 @@ fn every_part_runs_once_and_results_come_back_in_part_order() {
     let team = Team::new(2).unwrap();
     team.awake_for(|| {
         assert_eq!(team_size(), 2);
-        // 0..1000 in blocks of 32: 32 parts, dealt to this thread and the worker in turn.
+        // 0..1000 in blocks of 32: 32 parts, the first 16 this thread's own, the last 16 the
+        // worker's.
         let ranges = team_blocks(1000).unwrap();
         assert_eq!(ranges.len(), 32);
         assert_eq!((ranges[0].clone(), ranges[31].clone()), (0..32, 992..1000));
@@ -67,6 +68,32 @@ fn a_slow_member_s_parts_are_taken_by_the_other() {
     assert!(on_worker < 8, "the worker ran {on_worker} of 16");
     let (caller_slow, _) = sum_of(std::thread::current().name());
     assert_eq!(caller_slow, squares);
+}
+
+/// Each member's own parts are a contiguous run, taken from its front; a member done with its
+/// own takes the others' from their far end. With the caller slow, the worker runs its own
+/// run 8..16 in order, then the caller's from 7 down.
+#[test]
+fn a_member_takes_its_own_run_from_the_front_and_the_others_from_the_back() {
+    let team = Team::new(2).unwrap();
+    let caller = std::thread::current().name().map(str::to_owned);
+    let order = AtomicUsize::new(0);
+    let ran = team.awake_for(|| {
+        on_team((0..16).collect(), |k, _: usize| {
+            let on_caller = std::thread::current().name().map(str::to_owned) == caller;
+            if on_caller {
+                std::thread::sleep(Duration::from_millis(5));
+            }
+            (order.fetch_add(1, Ordering::SeqCst), k, on_caller)
+        })
+    });
+    let mut by_worker: Vec<_> = ran.iter().filter(|r| !r.2).map(|r| (r.0, r.1)).collect();
+    by_worker.sort();
+    let parts: Vec<usize> = by_worker.iter().map(|r| r.1).collect();
+    assert!(parts.len() >= 8, "the worker ran {parts:?}");
+    assert_eq!(parts[..8], [8, 9, 10, 11, 12, 13, 14, 15], "the worker ran {parts:?}");
+    assert!(parts[8..].windows(2).all(|w| w[0] > w[1]), "the worker ran {parts:?}");
+    assert!(ran[0].2, "part 0 is the caller's first");
 }
 
 #[test]

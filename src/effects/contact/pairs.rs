@@ -204,23 +204,17 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             });
             self.contacts = counts.iter().sum();
         }
-        if POLY {
-            // Chunk order is row order: the same records as one thread, in the same order.
-            // The first chunk's list is taken over rather than copied (the list is emptied
-            // before the pair loop; its buffer goes to the chunk for the next step).
-            let mut taken = false;
-            if let Some(first) = accs.first_mut()
-                && self.records.list.is_empty()
-            {
-                std::mem::swap(&mut self.records.list, &mut first.records);
-                taken = true;
-            }
-            for (k, acc) in accs.iter().enumerate() {
-                if k > 0 || !taken {
-                    self.records.list.extend_from_slice(&acc.records);
-                }
-                self.records.dissipated += acc.dissipated;
-            }
+        // Chunk order is row order: the same records as one thread, in the same order. The
+        // first chunk's list is taken over rather than copied (the list is emptied before the
+        // pair loop; its buffer goes to the chunk for the next step); the others' are copied
+        // as one part of the merge below, beside the bodies' sums.
+        let mut taken = false;
+        if POLY
+            && let Some(first) = accs.first_mut()
+            && self.records.list.is_empty()
+        {
+            std::mem::swap(&mut self.records.list, &mut first.records);
+            taken = true;
         }
         // Each body adds the accumulators that hold it, in chunk order.
         let n = forces.force.len();
@@ -232,23 +226,43 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         } else {
             split_ranges(&mut stiffness, &ranges)
         };
-        let merge: Vec<_> = ranges
-            .iter()
-            .zip(split_ranges(&mut forces.force, &ranges))
-            .zip(split_ranges(&mut forces.torque, &ranges))
-            .zip(stiffness_parts)
-            .collect();
+        enum Merge<'a> {
+            Bodies(Range<usize>, &'a mut [Vec3], &'a mut [Vec3], &'a mut [f64]),
+            Records(&'a mut ContactRecords),
+        }
+        let mut merge: Vec<Merge> = Vec::with_capacity(ranges.len() + 1);
+        if POLY {
+            merge.push(Merge::Records(&mut self.records));
+        }
+        merge.extend(
+            ranges
+                .iter()
+                .zip(split_ranges(&mut forces.force, &ranges))
+                .zip(split_ranges(&mut forces.torque, &ranges))
+                .zip(stiffness_parts)
+                .map(|(((range, f), t), k)| Merge::Bodies(range.clone(), f, t, k)),
+        );
         let accs_ref = &accs;
-        on_team(merge, |_, (((range, f), t), k_sum)| {
-            for (k, i) in range.clone().enumerate() {
-                for acc in accs_ref {
-                    if acc.range.contains(&i) {
-                        f[k] += acc.force[i - acc.range.start];
-                        if FRIC || POLY {
-                            t[k] += acc.torque[i - acc.range.start];
-                        }
-                        if !POLY {
-                            k_sum[k] += acc.stiffness[i - acc.range.start];
+        on_team(merge, |_, part| match part {
+            Merge::Records(records) => {
+                for (k, acc) in accs_ref.iter().enumerate() {
+                    if k > 0 || !taken {
+                        records.list.extend_from_slice(&acc.records);
+                    }
+                    records.dissipated += acc.dissipated;
+                }
+            }
+            Merge::Bodies(range, f, t, k_sum) => {
+                for (k, i) in range.enumerate() {
+                    for acc in accs_ref {
+                        if acc.range.contains(&i) {
+                            f[k] += acc.force[i - acc.range.start];
+                            if FRIC || POLY {
+                                t[k] += acc.torque[i - acc.range.start];
+                            }
+                            if !POLY {
+                                k_sum[k] += acc.stiffness[i - acc.range.start];
+                            }
                         }
                     }
                 }
