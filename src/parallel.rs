@@ -413,6 +413,19 @@ pub fn team_size() -> usize {
     .unwrap_or(1)
 }
 
+/// Runs `f` with no team on this thread, whatever the run it advances has: its passes run
+/// here, as on one thread (the team's members, awake, spin out their wait and sleep).
+pub fn alone<R>(f: impl FnOnce() -> R) -> R {
+    struct Restore(*const Team);
+    impl Drop for Restore {
+        fn drop(&mut self) {
+            TEAM.with(|t| t.set(self.0));
+        }
+    }
+    let _restore = Restore(TEAM.with(|t| t.replace(std::ptr::null())));
+    f()
+}
+
 /// Runs `f(k, part)` for every part, and returns the results in part order: with a team
 /// (this thread advances a run that has one), member m's own parts are the m-th of `size`
 /// contiguous runs of the parts (the first `n mod size` runs one part longer), taken from

@@ -425,3 +425,31 @@ fn the_team_follows_the_state_not_how_a_caller_cuts_the_run_into_calls() {
     // And the two-thread run is not the one-thread run (it was, with one call).
     assert_ne!(whole, run(1, u64::MAX));
 }
+
+#[test]
+fn a_sample_prepared_in_parts_is_the_same_on_one_and_two_threads() {
+    // 2128 spheres compacted without friction: above the 2048 grains from which preparation
+    // cuts its pair loop into parts of 1024 rows and runs on the team. The parts, not the
+    // threads, fix the order of every sum, so the sample (and the run from it) is the same;
+    // with one part per thread, as a run's steps cut it, the two would differ.
+    let sets = [
+        "sample.box=[0.0078, 0.0078, 0.0078]",
+        "sample.packing=\"compaction\"",
+        "loading.end_strain=0.0002",
+        "output.vtk=0",
+    ]
+    .map(String::from);
+    let sample = |threads: usize| {
+        let scene =
+            fractum::Scene::load(&common::repo().join("scenes/shpb_sand.toml"), &sets).unwrap();
+        let sim = Simulation::new(scene, threads, &mut |_| {}).unwrap();
+        let b = &sim.model.state.bodies;
+        assert!(
+            b.len() >= 2 * fractum::sample::PREPARATION_PART_ROWS,
+            "{} grains: too few for parts",
+            b.len()
+        );
+        (b.pos.clone(), b.orientation.clone(), b.radius.clone())
+    };
+    assert!(sample(1) == sample(2), "the two-thread sample differs");
+}

@@ -111,10 +111,7 @@ impl PairList {
         let parts: Vec<(Vec<u32>, Vec<u32>)> = if let Some(parts) = team_blocks(n) {
             on_team(parts, |_, r| rows_of(r))
         } else if threads_here() > 1 {
-            let ranges: Vec<_> = (0..n)
-                .step_by(256)
-                .map(|a| a..(a + 256).min(n))
-                .collect();
+            let ranges: Vec<_> = (0..n).step_by(256).map(|a| a..(a + 256).min(n)).collect();
             ranges.into_par_iter().map(rows_of).collect()
         } else {
             vec![rows_of(0..n)]

@@ -12,6 +12,8 @@
 //! One thread sums each pair's force straight into both bodies, pair slot by pair slot.
 //! Several threads each own a fixed range of rows and sum into private accumulators that are
 //! added up per body in a fixed order: for a given thread count, runs repeat bit for bit.
+//! Sample preparation cuts the rows by their count instead ([`PairParts::PerRows`]), so that
+//! its sample is the same on any number of threads.
 
 use std::ops::Range;
 
@@ -50,6 +52,23 @@ pub struct ContactParams {
     /// Bodies other than spheres may take part (poly-ellipsoids): build the `POLY` variant,
     /// which also records every contact.
     pub shapes: bool,
+    /// How the pair loop is cut into parts with private sums.
+    pub parts: PairParts,
+}
+
+/// How the pair loop is cut into parts, each summing its pairs' forces in its own
+/// accumulator, the accumulators then added body by body in part order. The parts fix the
+/// order of every sum, and with it the result's last bits.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum PairParts {
+    /// One part per member of the team advancing the run (one, a plain loop, without one):
+    /// the fastest cut, its bits those of the thread count.
+    #[default]
+    PerThread,
+    /// One part per this many rows (bodies) whatever the thread count, one part (the plain
+    /// loop) below twice that: the same bits on any number of threads, for sample
+    /// preparation, whose sample must not depend on the machine that made it.
+    PerRows(usize),
 }
 
 /// Builds the contact effect with exactly the sub-models in `params`.
@@ -134,10 +153,10 @@ pub struct HertzContact<const DAMP: bool, const FRIC: bool, const POLY: bool> {
     pair_hist: Vec<Vec3>,
     /// Tangential displacement per wall candidate (empty without friction).
     wall_hist: Vec<Vec<Vec3>>,
-    /// Parallel path: rows of each thread and their accumulators.
+    /// Parallel path: rows of each part and their accumulators.
     chunks: Vec<Range<usize>>,
     accumulators: Vec<Accumulator>,
-    chunk_threads: usize,
+    chunk_parts: usize,
     pending: Option<SavedHistory>,
     contacts: usize,
     /// Spheres: each body's summed normal contact stiffness (N/m, walls included) at the last
@@ -201,7 +220,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             wall_hist: Vec::new(),
             chunks: Vec::new(),
             accumulators: Vec::new(),
-            chunk_threads: 0,
+            chunk_parts: 0,
             pending: None,
             contacts: 0,
             body_stiffness: Vec::new(),
@@ -299,7 +318,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
             self.pair_reach =
                 transfer_pair_data(&old_offsets, &old_partners, &self.pair_reach, &self.pairs);
         }
-        self.chunk_threads = 0;
+        self.chunk_parts = 0;
     }
 
     fn rebuild_walls(&mut self, bodies: &Bodies, walls: &Walls) {
@@ -434,9 +453,19 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             self.body_stiffness.clear();
             self.body_stiffness.resize(bodies.len(), 0.0);
         }
-        let threads = team_size();
-        if threads > 1 && bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
-            self.pairs_parallel(bodies, forces, ctx);
+        let parts = match self.params.parts {
+            PairParts::PerThread => {
+                let threads = team_size();
+                if bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
+                    threads
+                } else {
+                    1
+                }
+            }
+            PairParts::PerRows(rows) => bodies.len() / rows.max(1),
+        };
+        if parts > 1 {
+            self.pairs_parallel(parts, bodies, forces, ctx);
         } else {
             self.pairs_serial(bodies, forces, ctx);
         }

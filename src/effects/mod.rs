@@ -16,7 +16,7 @@ use crate::error::{Error, Result};
 use crate::state::{Bodies, Forces, Vec3, Walls};
 
 pub use crate::contact::records::{ContactRecord, ContactRecords, WALL};
-pub use contact::{ContactParams, build_contact};
+pub use contact::{ContactParams, PairParts, build_contact};
 pub use gravity::Gravity;
 
 /// What an effect needs to know about the step being taken.

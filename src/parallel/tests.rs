@@ -91,8 +91,15 @@ fn a_member_takes_its_own_run_from_the_front_and_the_others_from_the_back() {
     by_worker.sort();
     let parts: Vec<usize> = by_worker.iter().map(|r| r.1).collect();
     assert!(parts.len() >= 8, "the worker ran {parts:?}");
-    assert_eq!(parts[..8], [8, 9, 10, 11, 12, 13, 14, 15], "the worker ran {parts:?}");
-    assert!(parts[8..].windows(2).all(|w| w[0] > w[1]), "the worker ran {parts:?}");
+    assert_eq!(
+        parts[..8],
+        [8, 9, 10, 11, 12, 13, 14, 15],
+        "the worker ran {parts:?}"
+    );
+    assert!(
+        parts[8..].windows(2).all(|w| w[0] > w[1]),
+        "the worker ran {parts:?}"
+    );
     assert!(ran[0].2, "part 0 is the caller's first");
 }
 

@@ -98,6 +98,12 @@ pub trait Physics: Send + Sized {
         1
     }
 
+    /// How many of the run's `threads` build the model as its worker team (the sample's
+    /// preparation); 1: on rayon or the caller alone.
+    fn build_members(_threads: usize) -> usize {
+        1
+    }
+
     /// Builds the model a scene describes, from its typed scene (runs on the run's threads).
     fn build(
         scene: &Scene,

@@ -41,7 +41,9 @@ impl<M: Model> Runner<M> {
     ) -> Result<Self> {
         let cfg = M::read(&scene)?;
         let threads = Threads::new(threads)?;
-        let built = threads.run(1, || M::build(&scene, cfg, progress))?;
+        let built = threads.run(M::build_members(threads.count()), || {
+            M::build(&scene, cfg, progress)
+        })?;
         Runner::start(scene, built, threads)
     }
 

@@ -16,7 +16,7 @@
 //! and radii, as a packing file would give it.
 
 use crate::contact::hertz_mindlin::{Hertz, Mindlin, ViscousDamping};
-use crate::effects::{ContactParams, StepContext, build_contact};
+use crate::effects::{ContactParams, PairParts, StepContext, build_contact};
 use crate::error::{Error, Result};
 use crate::integrate::{VelocityVerlet, rayleigh_time_step};
 use crate::state::{Bodies, BoxFace, Forces, Vec3, Walls};
@@ -53,6 +53,23 @@ const AXES: [(BoxFace, BoxFace); 3] = [
     (BoxFace::ZMin, BoxFace::ZMax),
 ];
 
+/// Rows (grains) per part of the pair loop while a sample is prepared
+/// ([`PairParts::PerRows`]). A sample of fewer than twice this many grains is prepared by the
+/// plain loop with no team (the same bits as when preparation never used one); a larger one in
+/// parts of this many rows, on the run's team when it has one: the same sample on any number
+/// of threads, and the cores used where one thread alone took hours (a whole specimen).
+pub const PREPARATION_PART_ROWS: usize = 1024;
+
+/// Runs a preparation: with no team for a sample too small for parts (see
+/// [`PREPARATION_PART_ROWS`]).
+fn preparing<R>(grains: usize, f: impl FnOnce() -> R) -> R {
+    if grains < 2 * PREPARATION_PART_ROWS {
+        crate::parallel::alone(f)
+    } else {
+        f()
+    }
+}
+
 /// What to compact to, and the grains' material.
 #[derive(Debug, Clone, Copy)]
 pub struct CompactionSpec {
@@ -75,6 +92,17 @@ pub fn compact_to_pressure(
     spec: &CompactionSpec,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<CompactionReport> {
+    preparing(bodies.len(), || {
+        compact_to_pressure_here(bodies, walls, spec, progress)
+    })
+}
+
+fn compact_to_pressure_here(
+    bodies: &mut Bodies,
+    walls: &mut Walls,
+    spec: &CompactionSpec,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<CompactionReport> {
     let (pressure, friction) = (spec.pressure, spec.friction);
     let params = ContactParams {
         hertz: Hertz::new(spec.young, spec.poisson),
@@ -84,6 +112,7 @@ pub fn compact_to_pressure(
         sleeve_friction: None,
         skin: spec.skin,
         shapes: bodies.shape.iter().any(|s| !s.is_sphere()),
+        parts: PairParts::PerRows(PREPARATION_PART_ROWS),
     };
     let dt = 0.2 * rayleigh_time_step(bodies.min_radius(), spec.density, spec.young, spec.poisson);
     let mut c = Compactor {
@@ -353,6 +382,17 @@ pub fn compact_to_fraction(
     spec: &FractionSpec,
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<std::result::Result<CompactionReport, FractionJammed>> {
+    preparing(bodies.len(), || {
+        compact_to_fraction_here(bodies, walls, spec, progress)
+    })
+}
+
+fn compact_to_fraction_here(
+    bodies: &mut Bodies,
+    walls: &mut Walls,
+    spec: &FractionSpec,
+    progress: &mut (dyn FnMut(&str) + Send),
+) -> Result<std::result::Result<CompactionReport, FractionJammed>> {
     let shapes = bodies.shape.iter().any(|s| !s.is_sphere());
     let params = ContactParams {
         hertz: Hertz::new(spec.young, spec.poisson),
@@ -363,6 +403,7 @@ pub fn compact_to_fraction(
         sleeve_friction: None,
         skin: spec.skin,
         shapes,
+        parts: PairParts::PerRows(PREPARATION_PART_ROWS),
     };
     let smallest = (0..bodies.len())
         .map(|i| {

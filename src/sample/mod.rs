@@ -25,8 +25,8 @@ use crate::shape::sphere_volume;
 use crate::state::{Bodies, Vec3, Walls};
 
 pub use compaction::{
-    CompactionReport, CompactionSpec, FractionJammed, FractionSpec, compact_to_fraction,
-    compact_to_pressure,
+    CompactionReport, CompactionSpec, FractionJammed, FractionSpec, PREPARATION_PART_ROWS,
+    compact_to_fraction, compact_to_pressure,
 };
 pub use import::{
     ELLIPSOID_COLUMNS, EllipsoidGrain, GRAIN_ASPECT_MAX, check_assembly_overlaps,
@@ -62,7 +62,7 @@ pub struct Sample {
 /// The revision of the preparations (placement, compaction, the jammed protocol): raised with
 /// every change that changes the samples they make, so that samples kept by a cache
 /// (`FRACTUM_SAMPLE_CACHE`) are made again rather than read back from an older protocol.
-pub const PREPARATION_REVISION: u32 = 5;
+pub const PREPARATION_REVISION: u32 = 6;
 
 /// Random-number streams, one per purpose, all from the scene seed.
 pub(crate) fn stream(seed: u64, purpose: u64) -> ChaCha8Rng {

@@ -96,19 +96,20 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
         self.contacts = count;
     }
 
-    /// Several threads: each takes a fixed range of rows (balanced by pair count) and sums its
-    /// pairs into its own accumulator over the bodies those rows touch; the accumulators are
-    /// then added per body in range order. For a given thread count the order of every sum is
-    /// fixed, so runs repeat bit for bit.
+    /// In `parts` parts ([`PairParts`]): each a fixed range of rows (balanced by pair count)
+    /// summing its pairs into its own accumulator over the bodies those rows touch, on the
+    /// team when there is one (here in order otherwise); the accumulators are then added per
+    /// body in range order. For a given number of parts the order of every sum is fixed, so
+    /// runs repeat bit for bit whoever computes which part.
     pub(super) fn pairs_parallel(
         &mut self,
+        parts: usize,
         bodies: &Bodies,
         forces: &mut Forces,
         ctx: &StepContext,
     ) {
-        let threads = team_size();
-        if self.chunk_threads != threads || self.chunks.len() != self.accumulators.len() {
-            self.chunks = self.pairs.row_chunks(threads);
+        if self.chunk_parts != parts || self.chunks.len() != self.accumulators.len() {
+            self.chunks = self.pairs.row_chunks(parts);
             self.accumulators = self
                 .chunks
                 .iter()
@@ -122,7 +123,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> HertzContact<DAMP, FR
                     Accumulator::new(rows.start..hi)
                 })
                 .collect();
-            self.chunk_threads = threads;
+            self.chunk_parts = parts;
         }
         let slot_ranges: Vec<Range<usize>> = self
             .chunks

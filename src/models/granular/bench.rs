@@ -142,8 +142,12 @@ pub fn run(
     progress: &mut (dyn FnMut(&str) + Send),
 ) -> Result<Vec<Timed>> {
     let mut cases = Vec::new();
+    // A packing not yet made is compacted on the largest thread count asked for: the same
+    // packing on any (its pair loop in parts of fixed rows, crate::sample::PREPARATION_PART_ROWS).
+    let most = threads.iter().copied().max().unwrap_or(1);
+    let pool = crate::parallel::Threads::new(most)?;
     for &n in sizes {
-        let sample = dense_packing(n, cache, progress)?;
+        let sample = pool.run(most, || dense_packing(n, cache, &mut *progress))?;
         for &t in threads {
             let case = time_case(&sample, n, t, steps)?;
             progress(&format!(

@@ -41,6 +41,7 @@ pub fn contact_params(scene: &Scene, cfg: &GranularScene, friction: Option<f64>)
         sleeve_friction: cfg.walls.sleeve_friction,
         skin: cfg.neighbor.skin,
         shapes: scene.has_effect(EffectKind::Fracture) || cfg.sample.non_spherical(),
+        parts: crate::effects::PairParts::PerThread,
     }
 }
 

@@ -59,6 +59,12 @@ impl Physics for Granular {
         self.state.bodies.len()
     }
 
+    /// Every thread: a sample's preparation runs its large samples in parts on the team, the
+    /// same sample on any thread count (`sample::PREPARATION_PART_ROWS`).
+    fn build_members(threads: usize) -> usize {
+        threads
+    }
+
     /// Poly-ellipsoids (a Newton solve per pair): every thread. Spheres: one thread per
     /// `TEAM_MIN_SPHERES_PER_THREAD`, at most `threads`: a sphere pair costs tens of
     /// nanoseconds, and handing half the bodies to another core (whose cache then fetches the
