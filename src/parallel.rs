@@ -217,20 +217,18 @@ impl Team {
     /// least one, at most the team): the others sleep, and the work is dealt to these. A step
     /// whose work pays for fewer threads than the run has keeps that many, instead of none.
     pub fn awake_with<R>(&self, members: usize, f: impl FnOnce() -> R) -> R {
-        struct Restore<'a>(&'a Shared, *const Team);
+        struct Restore<'a>(&'a Shared);
         impl Drop for Restore<'_> {
             fn drop(&mut self) {
                 self.0.awake.store(false, Ordering::Relaxed);
                 self.0.set_active(self.0.size);
-                TEAM.with(|t| t.set(self.1));
             }
         }
         // Set while no job is posted (a job runs inside `f` only): no member is inside one.
-        let outer = TEAM.with(|t| t.replace(self));
-        let _restore = Restore(&self.shared, outer);
+        let _restore = Restore(&self.shared);
         self.shared.set_active(members.clamp(1, self.shared.size));
         self.shared.awake.store(true, Ordering::Relaxed);
-        f()
+        with_team(self, f)
     }
 
     /// Runs `job(0)` here and `job(member)` on every member that comes before `job(0)` has
@@ -413,17 +411,23 @@ pub fn team_size() -> usize {
     .unwrap_or(1)
 }
 
-/// Runs `f` with no team on this thread, whatever the run it advances has: its passes run
-/// here, as on one thread (the team's members, awake, spin out their wait and sleep).
-pub fn alone<R>(f: impl FnOnce() -> R) -> R {
+/// Runs `f` with `team` as this thread's team (null: none), the one before it restored when
+/// `f` returns or unwinds.
+fn with_team<R>(team: *const Team, f: impl FnOnce() -> R) -> R {
     struct Restore(*const Team);
     impl Drop for Restore {
         fn drop(&mut self) {
             TEAM.with(|t| t.set(self.0));
         }
     }
-    let _restore = Restore(TEAM.with(|t| t.replace(std::ptr::null())));
+    let _restore = Restore(TEAM.with(|t| t.replace(team)));
     f()
+}
+
+/// Runs `f` with no team on this thread, whatever the run it advances has: its passes run
+/// here, as on one thread (the team's members, awake, spin out their wait and sleep).
+pub fn alone<R>(f: impl FnOnce() -> R) -> R {
+    with_team(std::ptr::null(), f)
 }
 
 /// Runs `f(k, part)` for every part, and returns the results in part order: with a team

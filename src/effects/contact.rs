@@ -71,6 +71,23 @@ pub enum PairParts {
     PerRows(usize),
 }
 
+impl PairParts {
+    /// How many parts the pair loop of `bodies` bodies takes; one: the plain loop.
+    pub fn count(self, bodies: usize) -> usize {
+        match self {
+            PairParts::PerThread => {
+                let threads = team_size();
+                if bodies >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
+                    threads
+                } else {
+                    1
+                }
+            }
+            PairParts::PerRows(rows) => (bodies / rows.max(1)).max(1),
+        }
+    }
+}
+
 /// Builds the contact effect with exactly the sub-models in `params`.
 pub fn build_contact(params: ContactParams) -> Box<dyn Effect> {
     match (
@@ -453,17 +470,7 @@ impl<const DAMP: bool, const FRIC: bool, const POLY: bool> Effect
             self.body_stiffness.clear();
             self.body_stiffness.resize(bodies.len(), 0.0);
         }
-        let parts = match self.params.parts {
-            PairParts::PerThread => {
-                let threads = team_size();
-                if bodies.len() >= PARALLEL_MIN_BODIES_PER_THREAD * threads {
-                    threads
-                } else {
-                    1
-                }
-            }
-            PairParts::PerRows(rows) => bodies.len() / rows.max(1),
-        };
+        let parts = self.params.parts.count(bodies.len());
         if parts > 1 {
             self.pairs_parallel(parts, bodies, forces, ctx);
         } else {

@@ -63,7 +63,7 @@ pub const PREPARATION_PART_ROWS: usize = 1024;
 /// Runs a preparation: with no team for a sample too small for parts (see
 /// [`PREPARATION_PART_ROWS`]).
 fn preparing<R>(grains: usize, f: impl FnOnce() -> R) -> R {
-    if grains < 2 * PREPARATION_PART_ROWS {
+    if PairParts::PerRows(PREPARATION_PART_ROWS).count(grains) == 1 {
         crate::parallel::alone(f)
     } else {
         f()
