@@ -258,6 +258,66 @@ typedef struct FractumSpring {
   int32_t broken;
 } FractumSpring;
 
+// A host's per-atom arrays as the bulk integrator kernels read and write them: each a table
+// of row pointers (`double **`, the layout of LAMMPS's `atom->x` and of `fix property/atom`
+// arrays), row `i` atom `i`'s values. Atoms `0..n` whose `mask[i] & groupbit` is nonzero are
+// advanced (`mask` null: all of them).
+typedef struct FractumAtomRows {
+  // The atoms advanced are among the first `n` (a host's owned atoms).
+  int32_t n;
+  // The group bit each advanced atom's `mask` has (with `mask` given).
+  int32_t groupbit;
+  // Per-atom group masks (null: every atom is advanced).
+  const int32_t *mask;
+  // Centres of mass (m), 3 doubles a row.
+  double *const *x;
+  // Velocities (m/s), 3 doubles a row.
+  double *const *v;
+  // Angular velocities (rad/s, world), 3 doubles a row.
+  double *const *omega;
+  // Forces (N), 3 doubles a row.
+  const double *const *force;
+  // Torques (N m, world), 3 doubles a row.
+  const double *const *torque;
+  // Masses (kg), one double an atom.
+  const double *mass;
+  // Bounding radii (m), one double an atom.
+  const double *radius;
+  // Orientations, body (principal) frame to world, w x y z in a row's first 4 doubles.
+  // Null: spheres that track no orientation (moments 2/5 m r^2, as `FractumBody` gives a
+  // sphere without shape arrays).
+  double *const *quat;
+  // Principal moments of inertia (kg m^2) in a row's first 3 doubles; read with `quat`.
+  const double *const *inertia;
+  // Summed travels (m) in a row's first double, each grown by its atom's drift
+  // (`fractum_kernel_travel`); null: not summed. Read with `quat` only.
+  double *const *travel;
+} FractumAtomRows;
+
+// One touching pair contact of a host's evaluation, as `fractum_kernel_sum_contacts` sums
+// it into its two atoms: the force on atom `i` (the opposite on `j`), each atom's torque,
+// and what fracture and the step adaptation read of it.
+typedef struct FractumTouching {
+  // The host's index of the atom whose row found the contact.
+  int32_t i;
+  // The host's index of its partner.
+  int32_t j;
+  // Force on `i` (N); `j` takes the opposite.
+  double force[3];
+  // Torque on `i` (N m, world).
+  double torque_i[3];
+  // Torque on `j` (N m, world).
+  double torque_j[3];
+  // Contact point (m).
+  double point[3];
+  // Hertz normal force (N) and held Hertz radius (m): the contact tensile stress.
+  double hertz_force;
+  double radius;
+  // The contact's shares of `i`'s and `j`'s rows of the frequency bound (rad²/s²).
+  double share_i;
+  double share_j;
+} FractumTouching;
+
 #ifdef __cplusplus
 extern "C" {
 #endif // __cplusplus
@@ -868,6 +928,41 @@ enum FractumStatus fractum_kernel_kick(struct FractumBody *b,
                                        const double *force,
                                        const double *torque,
                                        double dt);
+
+// `fractum_kernel_kick_drift` over a host's atoms in one call, with each moving atom's
+// travel summed as `fractum_kernel_travel` sums it: the same bits as those calls atom by
+// atom on each atom's `FractumBody`, without building one. Positions, velocities, angular
+// velocities and (with `quat`) orientations are advanced over `dt` (s) under the rows'
+// forces and torques.
+enum FractumStatus fractum_kernel_kick_drift_atoms(const struct FractumAtomRows *atoms, double dt);
+
+// `fractum_kernel_kick` over a host's atoms in one call (velocities and angular velocities
+// advanced over `dt`/2): the same bits as the calls atom by atom.
+enum FractumStatus fractum_kernel_kick_atoms(const struct FractumAtomRows *atoms, double dt);
+
+// Adds the contacts `touching` (`n_touching`) to their atoms in the order of `sides`
+// (`n_sides` codes: `2 k` is contact `k` as its atom `i` sees it, `2 k + 1` as its atom `j`
+// does; a host lists each atom's sides together, in the order its sum must take): the force
+// (`force[i]`, opposite on `j`) and torque rows (3 doubles each) grow by the contact's;
+// `shares` (null: not summed) by its share of the atom's row; and, with `loads` given, the
+// grain load of an atom that no cohesive spring holds (`grain` row: column 0 its Weibull
+// factor, column 3 its intact springs) by the contact, as `fractum_kernel_grain_load_add`
+// adds it about the atom's centre (`centre` row) with the threshold `sigma_f` times the
+// factor. `shares` and `loads` hold `n_atoms` entries; every atom a side names must be below
+// `n_atoms` (`FRACTUM_ERR_INPUT` otherwise, before anything is added).
+enum FractumStatus fractum_kernel_sum_contacts(const struct FractumTouching *touching,
+                                               size_t n_touching,
+                                               const int32_t *sides,
+                                               size_t n_sides,
+                                               size_t n_atoms,
+                                               double *const *force,
+                                               double *const *torque,
+                                               const double *const *centre,
+                                               const double *const *grain,
+                                               double poisson,
+                                               double sigma_f,
+                                               double *shares,
+                                               struct FractumGrainLoad *loads);
 
 #ifdef __cplusplus
 }  // extern "C"

@@ -49,38 +49,28 @@ void FixFractumNvePolyell::arrays()
   }
 }
 
-void FixFractumNvePolyell::store(int i, const FractumBody &b)
-{
-  for (int k = 0; k < 3; k++) {
-    atom->x[i][k] = b.pos[k];
-    atom->v[i][k] = b.vel[k];
-    atom->omega[i][k] = b.omega[k];
-  }
-  if (quat)
-    for (int k = 0; k < 4; k++) quat[i][k] = b.quat[k];
-}
-
-/* Advances every owned atom of the group by `step` (a kick-drift or a kick kernel); `drifts`:
-   the step moves the bodies. */
-void FixFractumNvePolyell::advance(Kernel step, const char *name, bool drifts)
+/* Advances every owned atom of the group by one bulk kernel over LAMMPS's arrays (a kick-drift
+   or a kick: the bits of the per-atom kernels, without building a FractumBody per atom); a
+   drift grows each moving atom's travel. */
+void FixFractumNvePolyell::advance(Kernel step, const char *name)
 {
   arrays();
-  int *mask = atom->mask;
-  FractumBody b, before;
-  // A drift moves the bodies: each one's travel grows by it (the pair's separated pairs' skip).
-  const bool moves = drifts && travel && quat;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(mask[i] & groupbit)) continue;
-    fractum_body(atom, shape, quat, inertia, i, b);
-    if (moves) before = b;
-    int status = step(&b, atom->f[i], atom->torque[i], update->dt);
-    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, name, status);
-    if (moves) {
-      status = fractum_kernel_travel(&before, &b, &travel[i][0]);
-      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "travel", status);
-    }
-    store(i, b);
-  }
+  FractumAtomRows rows;
+  rows.n = atom->nlocal;
+  rows.groupbit = groupbit;
+  rows.mask = atom->mask;
+  rows.x = atom->x;
+  rows.v = atom->v;
+  rows.omega = atom->omega;
+  rows.force = atom->f;
+  rows.torque = atom->torque;
+  rows.mass = atom->rmass;
+  rows.radius = atom->radius;
+  rows.quat = quat;
+  rows.inertia = inertia;
+  rows.travel = travel;
+  int status = step(&rows, update->dt);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, name, status);
 }
 
 void FixFractumNvePolyell::setup(int)
@@ -102,7 +92,7 @@ void FixFractumNvePolyell::initial_integrate(int)
           atom->torque[i][k] = last[i][4 + k];
         }
   resume = false;
-  advance(fractum_kernel_kick_drift, "kick_drift", true);
+  advance(fractum_kernel_kick_drift_atoms, "kick_drift_atoms");
 }
 
 void FixFractumNvePolyell::post_integrate()
@@ -112,7 +102,7 @@ void FixFractumNvePolyell::post_integrate()
 
 void FixFractumNvePolyell::final_integrate()
 {
-  advance(fractum_kernel_kick, "kick", false);
+  advance(fractum_kernel_kick_atoms, "kick_atoms");
   if (last)
     for (int i = 0; i < atom->nlocal; i++) {
       last[i][0] = 1.0;

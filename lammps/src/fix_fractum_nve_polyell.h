@@ -1,5 +1,6 @@
 /* fix ID group fractum/nve/polyell: Fractum's velocity Verlet for rigid grains (libfractum's
-   fractum_kernel_kick_drift and fractum_kernel_kick, the functions Fractum's integrator runs):
+   fractum_kernel_kick_drift_atoms and fractum_kernel_kick_atoms over LAMMPS's arrays, one call
+   per half step, the functions Fractum's integrator runs):
    spheres kick their angular velocity, poly-ellipsoids their angular momentum, and orientations
    turn by the midpoint rule. The orientations (d2_fr_orient) go to the ghost atoms every step,
    with, when d2_fr_travel is declared, each body's travel: the sum over its drifts of how far it
@@ -29,10 +30,9 @@ class FixFractumNvePolyell : public Fix {
   double **last = nullptr;      // d2_fr_last, when declared
   double **travel = nullptr;    // d2_fr_travel, when declared
   bool resume = false;
-  typedef FractumStatus (*Kernel)(FractumBody *, const double *, const double *, double);
+  typedef FractumStatus (*Kernel)(const FractumAtomRows *, double);
   void arrays();
-  void store(int i, const FractumBody &b);
-  void advance(Kernel step, const char *name, bool drifts);
+  void advance(Kernel step, const char *name);
 };
 
 }    // namespace LAMMPS_NS

@@ -37,6 +37,12 @@ class FractumSums {
   void want_shares(bool on) { shares_due = on; }
   bool shares_wanted() const { return shares_due; }
   bool loads_wanted() const { return loads_on; }
+  /* The critical contact threshold at Weibull factor 1 (Pa), and the arrays the pair's bulk
+     sum (fractum_kernel_sum_contacts) adds to after `begin`: loads while wanted, shares while
+     due. */
+  double threshold() const { return sigma_f; }
+  FractumGrainLoad *loads_data() { return loads.data(); }
+  double *shares_data() { return shares.data(); }
 
   /* The pair, at the start of an evaluation of `nlocal` owned atoms. */
   void begin(int nlocal)

@@ -279,7 +279,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
       // One record per contact: the force on i, the torques on i and j; each owned atom of
       // it gets a key (its partner's tag) pointing at the record's side.
       const int n = static_cast<int>(touching.size());
-      Touching &t = touching.emplace_back();
+      FractumTouching &t = touching.emplace_back();
       t.i = i;
       t.j = j;
       for (int k = 0; k < 3; k++) {
@@ -318,22 +318,14 @@ void PairFractumGranular::compute(int eflag, int vflag)
       for (; m > first[i] && order[m - 1].partner > moving.partner; m--) order[m] = order[m - 1];
       order[m] = moving;
     }
-  for (const Side &k : order) {
-    const Touching &t = touching[k.side >> 1];
-    const bool as_j = k.side & 1;
-    const int i = k.atom;
-    double force[3];
-    const double *turn = as_j ? t.torque_j : t.torque_i;
-    for (int d = 0; d < 3; d++) {
-      force[d] = as_j ? -t.force[d] : t.force[d];
-      f[i][d] += force[d];
-      torque[i][d] += turn[d];
-    }
-    if (frequency_due) sums.add_share(i, as_j ? t.share_j : t.share_i);
-    if (grain_arr && grain_arr[i][3] == 0.0)
-      sums.add_load(lmp, STYLE, i, atom->x[i], force, t.point, t.hertz_force, t.radius,
-                    material.poisson, grain_arr[i][0]);
-  }
+  codes.resize(order.size());
+  for (size_t k = 0; k < order.size(); k++) codes[k] = order[k].side;
+  const bool loads = grain_arr && sums.loads_wanted();
+  int status = fractum_kernel_sum_contacts(
+      touching.data(), touching.size(), codes.data(), codes.size(), nlocal, f, torque, atom->x,
+      loads ? grain_arr : nullptr, material.poisson, sums.threshold(),
+      frequency_due ? sums.shares_data() : nullptr, loads ? sums.loads_data() : nullptr);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "sum_contacts", status);
   sums.reshaped_done();
 }
 
@@ -342,7 +334,8 @@ double PairFractumGranular::memory_usage()
   return (double) bodies.capacity() * sizeof(FractumBody) +
       (double) places.capacity() * sizeof(FractumPlacement) +
       sums.memory_usage() +
-      (double) touching.capacity() * sizeof(Touching) +
+      (double) touching.capacity() * sizeof(FractumTouching) +
+      (double) codes.capacity() * sizeof(int32_t) +
       (double) (sides.capacity() + order.capacity()) * sizeof(Side) +
       (double) (first.capacity() + cursor.capacity() + row_at.capacity()) * sizeof(int) +
       (double) (keys.capacity()) * sizeof(int64_t) +

@@ -56,14 +56,10 @@ class PairFractumGranular : public Pair {
   class Fix *dummy = nullptr;
   std::vector<FractumBody> bodies;
   std::vector<FractumPlacement> places;
-  /* One touching contact of this evaluation: the force on i, the torques on i and j, and what
-     fracture and the step adaptation read of it. */
-  struct Touching {
-    int i, j;    // the row's owned atom and its partner (owned or ghost)
-    double force[3], torque_i[3], torque_j[3], point[3];
-    double hertz_force, radius, share_i, share_j;
-  };
-  std::vector<Touching> touching;
+  /* The touching contacts of this evaluation (libfractum's FractumTouching: the force on i, the
+     torques on i and j, and what fracture and the step adaptation read of it), summed into
+     their atoms by one fractum_kernel_sum_contacts call. */
+  std::vector<FractumTouching> touching;
   /* What an owned atom sums: its partner's tag (the order of the sum) and which side of which
      contact (2 n for atom i of touching[n], 2 n + 1 for atom j). Sorted instead of the contacts,
      which are ten times larger. */
@@ -73,6 +69,8 @@ class PairFractumGranular : public Pair {
     int side;
   };
   std::vector<Side> sides, order;
+  // The sides in summing order, as the kernel takes them (2 n + 1 for atom j of contact n).
+  std::vector<int32_t> codes;
   // Each atom's first slot in `order` and a cursor per atom (the counting sort).
   std::vector<int> first, cursor;
   /* Per evaluation: the bodies' tags and travels; per row: the kernel's touching contacts,

@@ -529,7 +529,8 @@ def read_back_scene(folder, data_file):
 @pytest.mark.parametrize("state,ranks", [("sample", 1), ("sample", 2), ("after_splits", 2)])
 def test_critical_contact_picks_are_the_librarys_for_the_same_grains(tmp_path, state, ranks):
     """The grain loads that fix fractum/fracture's check reads (compute fractum/loads: what pair
-    fractum/granular and fix fractum/platens summed through fractum_kernel_grain_load_add)
+    fractum/granular summed through fractum_kernel_sum_contacts and fix fractum/platens through
+    fractum_kernel_grain_load_add)
     against those Fractum's own check read (Simulation.grain_loads: the library's
     GrainFracture::check over its contact records), at the check of the first step from the
     same grains: the small loaded packing as exported (`sample`), and the state of a 300-step

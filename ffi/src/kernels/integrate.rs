@@ -2,6 +2,7 @@
 //! frequency shares, the adapted step and the step check.
 
 use super::*;
+use nalgebra::UnitQuaternion;
 
 /// Velocity Verlet's first half kick and drift of one grain over `dt` (s), as Fractum's
 /// integrator moves each body (`velocity_verlet::kick_drift_body`, orientations tracked):
@@ -188,5 +189,146 @@ pub extern "C" fn fractum_kernel_kick(
         b.vel = body.vel.into();
         b.omega = body.omega.into();
         Ok(())
+    })
+}
+
+/// One atom of `FractumAtomRows` as the integrator needs it: position, velocity, angular
+/// velocity, orientation and inverse mass and moments, with the inverses as the library
+/// makes them (1/m), so that the bits are those of `fractum_kernel_kick_drift` on the
+/// atom's `FractumBody`.
+struct AtomState {
+    pos: Vec3,
+    vel: Vec3,
+    omega: Vec3,
+    orientation: UnitQuaternion<f64>,
+    inv_mass: f64,
+    inv_inertia: Vec3,
+}
+
+/// Runs `step` on every advanced atom of `a`, then writes the state back; `drifts`: the step
+/// moves the atoms (their orientations are written, and their travels grow).
+fn advance_rows(
+    a: *const FractumAtomRows,
+    drifts: bool,
+    mut step: impl FnMut(&mut AtomState, &Vec3, &Vec3),
+) -> KResult {
+    let a = get(a)?;
+    input_if(a.n < 0)?;
+    let n = a.n as usize;
+    if n == 0 {
+        return Ok(());
+    }
+    let mask = slice_in(a.mask, if a.mask.is_null() { 0 } else { n })?;
+    let mass = slice_in(a.mass, n)?;
+    let radius = slice_in(a.radius, n)?;
+    let tracked = !a.quat.is_null();
+    let travels = drifts && tracked && !a.travel.is_null();
+    // The row tables (one row pointer per atom; the optional ones empty when not given).
+    let (x, v, w) = (slice_in(a.x, n)?, slice_in(a.v, n)?, slice_in(a.omega, n)?);
+    let (force, torque) = (slice_in(a.force, n)?, slice_in(a.torque, n)?);
+    let q_rows = slice_in(a.quat, if tracked { n } else { 0 })?;
+    let moments = slice_in(a.inertia, if tracked { n } else { 0 })?;
+    let travel = slice_in(a.travel, if travels { n } else { 0 })?;
+    for i in 0..n {
+        if !mask.is_empty() && mask[i] & a.groupbit == 0 {
+            continue;
+        }
+        // SAFETY: the caller passes row tables of at least n rows of the documented widths,
+        // not aliased during the call (documented).
+        unsafe {
+            let (x, v, w) = (row_mut::<3>(x[i]), row_mut::<3>(v[i]), row_mut::<3>(w[i]));
+            let (orientation, inv_inertia) = if tracked {
+                let moments = Vec3::from(*row::<3>(moments[i]));
+                (quat(row::<4>(q_rows[i])), moments.map(|m| 1.0 / m))
+            } else {
+                // fractum_body's sphere without shape arrays, then body_in's inverse.
+                let moment = 0.4 * mass[i] * radius[i] * radius[i];
+                (UnitQuaternion::identity(), Vec3::repeat(1.0 / moment))
+            };
+            let mut s = AtomState {
+                pos: Vec3::from(*x),
+                vel: Vec3::from(*v),
+                omega: Vec3::from(*w),
+                orientation,
+                inv_mass: 1.0 / mass[i],
+                inv_inertia,
+            };
+            let (before_pos, before_q) = (s.pos, s.orientation);
+            step(
+                &mut s,
+                &Vec3::from(*row::<3>(force[i])),
+                &Vec3::from(*row::<3>(torque[i])),
+            );
+            *v = s.vel.into();
+            *w = s.omega.into();
+            if drifts {
+                *x = s.pos.into();
+                if tracked {
+                    *row_mut::<4>(q_rows[i]) = quat_out(&s.orientation);
+                }
+            }
+            if travels {
+                row_mut::<1>(travel[i])[0] += fractum::contact::pair::travel_step(
+                    &before_pos,
+                    &before_q,
+                    &s.pos,
+                    &s.orientation,
+                    radius[i],
+                );
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `fractum_kernel_kick_drift` over a host's atoms in one call, with each moving atom's
+/// travel summed as `fractum_kernel_travel` sums it: the same bits as those calls atom by
+/// atom on each atom's `FractumBody`, without building one. Positions, velocities, angular
+/// velocities and (with `quat`) orientations are advanced over `dt` (s) under the rows'
+/// forces and torques.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_kick_drift_atoms(
+    atoms: *const FractumAtomRows,
+    dt: f64,
+) -> FractumStatus {
+    kernel(|| {
+        advance_rows(atoms, true, |s, force, torque| {
+            fractum::integrate::velocity_verlet::kick_drift_body(
+                &mut s.pos,
+                &mut s.vel,
+                &mut s.omega,
+                &mut s.orientation,
+                force,
+                torque,
+                s.inv_mass,
+                &s.inv_inertia,
+                dt,
+                true,
+            )
+        })
+    })
+}
+
+/// `fractum_kernel_kick` over a host's atoms in one call (velocities and angular velocities
+/// advanced over `dt`/2): the same bits as the calls atom by atom.
+#[unsafe(no_mangle)]
+pub extern "C" fn fractum_kernel_kick_atoms(
+    atoms: *const FractumAtomRows,
+    dt: f64,
+) -> FractumStatus {
+    kernel(|| {
+        advance_rows(atoms, false, |s, force, torque| {
+            fractum::integrate::velocity_verlet::kick_body(
+                &mut s.vel,
+                &mut s.omega,
+                &s.orientation,
+                force,
+                torque,
+                s.inv_mass,
+                &s.inv_inertia,
+                dt,
+                true,
+            )
+        })
     })
 }

@@ -27,6 +27,7 @@ mod contact;
 mod convert;
 mod fracture;
 mod integrate;
+mod sums;
 mod types;
 
 pub use contact::*;
@@ -34,6 +35,7 @@ pub(crate) use convert::grain_load_row;
 use convert::*;
 pub use fracture::*;
 pub use integrate::*;
+pub use sums::*;
 pub use types::*;
 
 type KResult = Result<(), FractumStatus>;
@@ -124,6 +126,24 @@ fn slice_mut<'a, T>(p: *mut T, n: usize) -> Result<&'a mut [T], FractumStatus> {
     }
     // SAFETY: the caller passes room for n elements, not aliased during the call.
     Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// The `N` doubles a host's row pointer points to (a row of a `double **` table).
+///
+/// # Safety
+/// `p` points to at least `N` doubles, not written during the borrow.
+unsafe fn row<'a, const N: usize>(p: *const f64) -> &'a [f64; N] {
+    // SAFETY: as the function's contract.
+    unsafe { &*p.cast::<[f64; N]>() }
+}
+
+/// The `N` doubles a host's row pointer points to, to write.
+///
+/// # Safety
+/// `p` points to at least `N` doubles, not otherwise referenced during the borrow.
+unsafe fn row_mut<'a, const N: usize>(p: *mut f64) -> &'a mut [f64; N] {
+    // SAFETY: as the function's contract.
+    unsafe { &mut *p.cast::<[f64; N]>() }
 }
 
 /// The library's body from a FractumBody: the inverse mass and moments as the library makes

@@ -245,3 +245,67 @@ pub struct FractumSpring {
     /// 1: broken for good.
     pub broken: i32,
 }
+
+/// A host's per-atom arrays as the bulk integrator kernels read and write them: each a table
+/// of row pointers (`double **`, the layout of LAMMPS's `atom->x` and of `fix property/atom`
+/// arrays), row `i` atom `i`'s values. Atoms `0..n` whose `mask[i] & groupbit` is nonzero are
+/// advanced (`mask` null: all of them).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct FractumAtomRows {
+    /// The atoms advanced are among the first `n` (a host's owned atoms).
+    pub n: i32,
+    /// The group bit each advanced atom's `mask` has (with `mask` given).
+    pub groupbit: i32,
+    /// Per-atom group masks (null: every atom is advanced).
+    pub mask: *const i32,
+    /// Centres of mass (m), 3 doubles a row.
+    pub x: *const *mut f64,
+    /// Velocities (m/s), 3 doubles a row.
+    pub v: *const *mut f64,
+    /// Angular velocities (rad/s, world), 3 doubles a row.
+    pub omega: *const *mut f64,
+    /// Forces (N), 3 doubles a row.
+    pub force: *const *const f64,
+    /// Torques (N m, world), 3 doubles a row.
+    pub torque: *const *const f64,
+    /// Masses (kg), one double an atom.
+    pub mass: *const f64,
+    /// Bounding radii (m), one double an atom.
+    pub radius: *const f64,
+    /// Orientations, body (principal) frame to world, w x y z in a row's first 4 doubles.
+    /// Null: spheres that track no orientation (moments 2/5 m r^2, as `FractumBody` gives a
+    /// sphere without shape arrays).
+    pub quat: *const *mut f64,
+    /// Principal moments of inertia (kg m^2) in a row's first 3 doubles; read with `quat`.
+    pub inertia: *const *const f64,
+    /// Summed travels (m) in a row's first double, each grown by its atom's drift
+    /// (`fractum_kernel_travel`); null: not summed. Read with `quat` only.
+    pub travel: *const *mut f64,
+}
+
+/// One touching pair contact of a host's evaluation, as `fractum_kernel_sum_contacts` sums
+/// it into its two atoms: the force on atom `i` (the opposite on `j`), each atom's torque,
+/// and what fracture and the step adaptation read of it.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct FractumTouching {
+    /// The host's index of the atom whose row found the contact.
+    pub i: i32,
+    /// The host's index of its partner.
+    pub j: i32,
+    /// Force on `i` (N); `j` takes the opposite.
+    pub force: [f64; 3],
+    /// Torque on `i` (N m, world).
+    pub torque_i: [f64; 3],
+    /// Torque on `j` (N m, world).
+    pub torque_j: [f64; 3],
+    /// Contact point (m).
+    pub point: [f64; 3],
+    /// Hertz normal force (N) and held Hertz radius (m): the contact tensile stress.
+    pub hertz_force: f64,
+    pub radius: f64,
+    /// The contact's shares of `i`'s and `j`'s rows of the frequency bound (rad²/s²).
+    pub share_i: f64,
+    pub share_j: f64,
+}

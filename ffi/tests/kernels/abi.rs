@@ -92,4 +92,7 @@ exports! {
     fn fractum_kernel_adapted_step(sum: f64, dt: f64, target: f64, next: *mut f64) -> FractumStatus;
     fn fractum_kernel_step_check(sum: f64, dt: f64, omega_dt: *mut f64, verdict: *mut i32) -> FractumStatus;
     fn fractum_kernel_kick(b: *mut FractumBody, force: *const f64, torque: *const f64, dt: f64) -> FractumStatus;
+    fn fractum_kernel_kick_drift_atoms(atoms: *const FractumAtomRows, dt: f64) -> FractumStatus;
+    fn fractum_kernel_kick_atoms(atoms: *const FractumAtomRows, dt: f64) -> FractumStatus;
+    fn fractum_kernel_sum_contacts(touching: *const FractumTouching, n_touching: usize, sides: *const i32, n_sides: usize, n_atoms: usize, force: *const *mut f64, torque: *const *mut f64, centre: *const *const f64, grain: *const *const f64, poisson: f64, sigma_f: f64, shares: *mut f64, loads: *mut FractumGrainLoad) -> FractumStatus;
 }

@@ -126,3 +126,197 @@ fn frequency_share_and_adapted_step_give_the_library_bits() {
         FRACTUM_ERR_INPUT
     );
 }
+
+/// Per-atom arrays in a host's layout (row pointers, as LAMMPS's `atom->x` and its
+/// `fix property/atom` arrays): rows of the width LAMMPS's Fractum arrays have.
+struct Rows {
+    x: Vec<[f64; 3]>,
+    v: Vec<[f64; 3]>,
+    omega: Vec<[f64; 3]>,
+    force: Vec<[f64; 3]>,
+    torque: Vec<[f64; 3]>,
+    mass: Vec<f64>,
+    radius: Vec<f64>,
+    quat: Vec<[f64; 7]>,
+    inertia: Vec<[f64; 7]>,
+    travel: Vec<[f64; 1]>,
+    mask: Vec<i32>,
+}
+
+/// Row pointers of `rows`, kept alive by the caller while the kernel runs.
+fn pointers<const N: usize>(rows: &mut [[f64; N]]) -> Vec<*mut f64> {
+    rows.iter_mut().map(|r| r.as_mut_ptr()).collect()
+}
+
+/// The bulk integrator kernels give the per-atom kernels' bits on every atom of the group
+/// (kick-drift with the travel of `fractum_kernel_travel`, then the kick), over spheres and
+/// poly-ellipsoids, with and without orientations tracked, and leave the atoms outside the
+/// group as they were.
+#[test]
+fn bulk_integrator_gives_the_per_atom_kernels_bits() {
+    let mut d = Draw::new(21);
+    let dt = 3e-8;
+    for tracked in [true, false] {
+        let n = 24;
+        let bodies: Vec<Body> = (0..n)
+            .map(|k| random_body(&mut d, !tracked || k % 3 == 0))
+            .collect();
+        let mut c: Vec<FractumBody> = bodies.iter().map(c_body).collect();
+        if !tracked {
+            // A sphere without shape arrays, as the plugin's fractum_body makes it.
+            for b in &mut c {
+                let moment = 0.4 * b.mass * b.radius * b.radius;
+                b.inertia = [moment; 3];
+                b.quat = [1.0, 0.0, 0.0, 0.0];
+            }
+        }
+        let force: Vec<[f64; 3]> = (0..n).map(|_| c_vec(&d.vec(1e-3))).collect();
+        let torque: Vec<[f64; 3]> = (0..n).map(|_| c_vec(&d.vec(1e-7))).collect();
+        let mask: Vec<i32> = (0..n).map(|k| if k % 5 == 2 { 1 } else { 1 | 4 }).collect();
+        let mut r = Rows {
+            x: c.iter().map(|b| b.pos).collect(),
+            v: c.iter().map(|b| b.vel).collect(),
+            omega: c.iter().map(|b| b.omega).collect(),
+            force: force.clone(),
+            torque: torque.clone(),
+            mass: c.iter().map(|b| b.mass).collect(),
+            radius: c.iter().map(|b| b.radius).collect(),
+            quat: c
+                .iter()
+                .map(|b| {
+                    let mut row = [0.0; 7];
+                    row[..4].copy_from_slice(&b.quat);
+                    row[4..].copy_from_slice(&b.origin);
+                    row
+                })
+                .collect(),
+            inertia: c
+                .iter()
+                .map(|b| {
+                    let mut row = [0.0; 7];
+                    row[..3].copy_from_slice(&b.inertia);
+                    row[3..].copy_from_slice(&b.to_body);
+                    row
+                })
+                .collect(),
+            travel: (0..n).map(|k| [1e-6 * k as f64]).collect(),
+            mask,
+        };
+        let before_travel = r.travel.clone();
+        // The per-atom path on copies.
+        let mut expect = c.clone();
+        let mut expect_travel: Vec<f64> = before_travel.iter().map(|t| t[0]).collect();
+        for k in 0..n {
+            if r.mask[k] & 4 == 0 {
+                continue;
+            }
+            let before = expect[k];
+            let s = fractum_kernel_kick_drift(
+                &mut expect[k],
+                force[k].as_ptr(),
+                torque[k].as_ptr(),
+                dt,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            if tracked {
+                assert_eq!(
+                    fractum_kernel_travel(&before, &expect[k], &mut expect_travel[k]),
+                    FRACTUM_OK
+                );
+            }
+        }
+        let (mut x, mut v, mut w) = (
+            pointers(&mut r.x),
+            pointers(&mut r.v),
+            pointers(&mut r.omega),
+        );
+        let (mut q, mut ti) = (pointers(&mut r.quat), pointers(&mut r.inertia));
+        let mut tr = pointers(&mut r.travel);
+        let (mut f, mut t) = (pointers(&mut r.force), pointers(&mut r.torque));
+        let rows = FractumAtomRows {
+            n: n as i32,
+            groupbit: 4,
+            mask: r.mask.as_ptr(),
+            x: x.as_mut_ptr(),
+            v: v.as_mut_ptr(),
+            omega: w.as_mut_ptr(),
+            force: f.as_mut_ptr().cast(),
+            torque: t.as_mut_ptr().cast(),
+            mass: r.mass.as_ptr(),
+            radius: r.radius.as_ptr(),
+            quat: if tracked { q.as_mut_ptr() } else { null_mut() },
+            inertia: if tracked {
+                ti.as_mut_ptr().cast()
+            } else {
+                null_mut()
+            },
+            travel: tr.as_mut_ptr(),
+        };
+        assert_eq!(fractum_kernel_kick_drift_atoms(&rows, dt), FRACTUM_OK);
+        let check = |r: &Rows, expect: &[FractumBody], travel: &[f64]| {
+            for k in 0..n {
+                assert_eq!(r.x[k], expect[k].pos, "position of atom {k}");
+                assert_eq!(r.v[k], expect[k].vel, "velocity of atom {k}");
+                assert_eq!(r.omega[k], expect[k].omega, "angular velocity of atom {k}");
+                if tracked {
+                    assert_eq!(r.quat[k][..4], expect[k].quat, "orientation of atom {k}");
+                }
+                // The travel only grows with orientations tracked (the pair's skip needs them).
+                assert_eq!(r.travel[k][0], travel[k], "travel of atom {k}");
+            }
+        };
+        let unchanged: Vec<f64> = before_travel.iter().map(|t| t[0]).collect();
+        check(
+            &r,
+            &expect,
+            if tracked { &expect_travel } else { &unchanged },
+        );
+        // The second half kick.
+        for k in 0..n {
+            if r.mask[k] & 4 != 0 {
+                let s =
+                    fractum_kernel_kick(&mut expect[k], force[k].as_ptr(), torque[k].as_ptr(), dt);
+                assert_eq!(s, FRACTUM_OK);
+            }
+        }
+        assert_eq!(fractum_kernel_kick_atoms(&rows, dt), FRACTUM_OK);
+        check(
+            &r,
+            &expect,
+            if tracked { &expect_travel } else { &unchanged },
+        );
+        // Something moved, and the atoms outside the group did not.
+        assert!((0..n).any(|k| r.x[k] != c[k].pos));
+        for k in (0..n).filter(|k| r.mask[*k] & 4 == 0) {
+            assert_eq!(
+                (r.x[k], r.v[k], r.omega[k]),
+                (c[k].pos, c[k].vel, c[k].omega)
+            );
+        }
+    }
+    // A table missing, and a negative count, refused.
+    let bad = FractumAtomRows {
+        n: 1,
+        groupbit: 1,
+        mask: null(),
+        x: null_mut(),
+        v: null_mut(),
+        omega: null_mut(),
+        force: null_mut(),
+        torque: null_mut(),
+        mass: null(),
+        radius: null(),
+        quat: null_mut(),
+        inertia: null_mut(),
+        travel: null_mut(),
+    };
+    assert_eq!(fractum_kernel_kick_atoms(&bad, dt), FRACTUM_ERR_NULL);
+    assert_eq!(
+        fractum_kernel_kick_drift_atoms(&FractumAtomRows { n: -1, ..bad }, dt),
+        FRACTUM_ERR_INPUT
+    );
+    assert_eq!(
+        fractum_kernel_kick_drift_atoms(&FractumAtomRows { n: 0, ..bad }, dt),
+        FRACTUM_OK
+    );
+}

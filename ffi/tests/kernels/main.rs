@@ -25,6 +25,7 @@ mod fracture;
 mod integrate;
 mod reference;
 mod refusals;
+mod sums;
 
 use abi::*;
 use fractum::contact::convex::{self, ContactGeometry};
@@ -45,7 +46,7 @@ use fractum::sample::{UNIFORM_COUNTERS, uniforms};
 use fractum::shape::PolyEllipsoid;
 use fractum::state::{Bodies, Body, Vec3};
 use nalgebra::{Matrix3, UnitQuaternion};
-use reference::{c_body, c_rows, c_spring, law_params};
+use reference::{c_body, c_rows, c_spring, c_vec, law_params};
 use status::FractumStatus::*;
 use std::ptr::{null, null_mut};
 use types::*;
