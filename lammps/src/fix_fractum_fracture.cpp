@@ -253,14 +253,29 @@ void FixFractumFracture::setup(int)
   sums->splits(false, !decisions.empty());
 }
 
-/* The cohesive springs of the owned atoms: both ends hold a copy, advanced identically
-   (`advance` false: their forces now, the springs left as they are). */
+/* Whether slot s of owned atom a (its spring's end A) and slot s of owned atom b hold the two
+   copies of one intact spring. Both ends of a spring store it at the same slot: the halves of
+   a split are bonded at once, into slots cleared at the split (a grain with intact springs
+   never breaks, so an atom holds springs to one partner only). */
+static bool same_spring(const double *at_a, const double *at_b, tagint tag_a, tagint tag_b)
+{
+  return at_a[0] == static_cast<double>(tag_b) && at_a[1] > 0.0 && at_a[20] == 0.0 &&
+      at_b[0] == static_cast<double>(tag_a) && at_b[1] < 0.0 && at_b[20] == 0.0;
+}
+
+/* The cohesive springs of the owned atoms. Both ends hold a copy, advanced identically; a
+   spring whose ends are both owned here (the partner its own closest image) is evaluated once,
+   by its end A, which applies it to both atoms and writes both copies: the bits of evaluating
+   it from each end. A spring to a ghost is evaluated by each end's rank for its own atom.
+   (`advance` false: their forces now, the springs left as they are.) */
 void FixFractumFracture::spring_forces(bool advance)
 {
   if (!cohesion) return;
   double **f = atom->f, **torque = atom->torque;
+  tagint *tag = atom->tag;
+  const int nlocal = atom->nlocal;
   FractumBody bi, bj;
-  for (int i = 0; i < atom->nlocal; i++) {
+  for (int i = 0; i < nlocal; i++) {
     if (grain[i][3] == 0.0) continue;
     for (int s = 0; s < springs; s++) {
       double *slot = &slots[i][SPRING_SLOT * s];
@@ -271,11 +286,26 @@ void FixFractumFracture::spring_forces(bool advance)
         error->one(FLERR,
                    "{}: atom {} holds a cohesive spring to atom {}, which is neither owned nor a "
                    "ghost here: raise the communication cutoff (comm_modify cutoff)",
-                   STYLE, atom->tag[i], partner);
-      j = domain->closest_image(i, j);
+                   STYLE, tag[i], partner);
+      const bool is_a = slot[1] > 0.0;
+      // A spring evaluated once here: end A's closest image of B is B itself, owned here.
+      double *other = nullptr;
+      if (is_a) {
+        j = domain->closest_image(i, j);
+        if (j < nlocal && same_spring(slot, &slots[j][SPRING_SLOT * s], tag[i], partner))
+          other = &slots[j][SPRING_SLOT * s];
+      } else if (j < nlocal) {
+        // End B: end A (owned here) evaluates it when its closest image of this atom is this
+        // atom, the test end A makes.
+        const int seen = domain->closest_image(j, i);
+        if (seen < nlocal && same_spring(&slots[j][SPRING_SLOT * s], slot, partner, tag[i]))
+          continue;
+        j = domain->closest_image(i, j);
+      } else {
+        j = domain->closest_image(i, j);
+      }
       fractum_body(atom, shape, quat, inertia, i, bi);
       fractum_body(atom, shape, quat, inertia, j, bj);
-      const bool is_a = slot[1] > 0.0;
       FractumSpring sp;
       std::memcpy(sp.on_a, &slot[2], 3 * sizeof(double));
       std::memcpy(sp.on_b, &slot[5], 3 * sizeof(double));
@@ -294,19 +324,31 @@ void FixFractumFracture::spring_forces(bool advance)
       if (!advance) {
         if (broke) continue;
       } else {
-        slot[13] = sp.opening;
-        std::memcpy(&slot[14], sp.last_gap, 3 * sizeof(double));
-        std::memcpy(&slot[17], sp.last_force, 3 * sizeof(double));
+        for (double *copy : {slot, other}) {
+          if (!copy) continue;
+          copy[13] = sp.opening;
+          std::memcpy(&copy[14], sp.last_gap, 3 * sizeof(double));
+          std::memcpy(&copy[17], sp.last_force, 3 * sizeof(double));
+        }
       }
       if (broke) {
         slot[20] = 1.0;
         grain[i][3] -= 1.0;
+        if (other) {
+          other[20] = 1.0;
+          grain[j][3] -= 1.0;
+        }
         continue;
       }
       for (int k = 0; k < 3; k++) {
         f[i][k] += is_a ? fa[k] : -fa[k];
         torque[i][k] += is_a ? ta[k] : tb[k];
       }
+      if (other)
+        for (int k = 0; k < 3; k++) {
+          f[j][k] -= fa[k];
+          torque[j][k] += tb[k];
+        }
     }
   }
 }
