@@ -13,7 +13,8 @@
      [partner tag, role (+1: this atom is A, -1: B), on_a (3), on_b (3), direction (3), f0, k,
       opening, last_gap (3), last_force (3), broken]
    Both atoms of a spring hold a copy and advance it identically, so a spring needs no
-   communication beyond the ghost positions and orientations.
+   communication beyond the ghost positions and orientations; a rank that owns both evaluates
+   it once (spring_forces).
 
    Global vector: 1 splits, 2 grains of the sample broken, 3 splits by Hoek-Brown, 4 by contacts,
    5 intact springs, 6 elastic energy of the contacts (J), 7 energy dissipated in the contacts
