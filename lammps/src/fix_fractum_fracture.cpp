@@ -1,5 +1,7 @@
 #include "fix_fractum_fracture.h"
 
+#include "fix_fractum_cohesion.h"
+
 #include "atom.h"
 #include "comm.h"
 #include "domain.h"
@@ -21,45 +23,8 @@ using namespace FixConst;
 
 static const char *STYLE = "fix fractum/fracture";
 static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [weibull_on contact|both] "
-                           "[cohesion KIC N] "
                            "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
                            "[seed N]";
-
-static void cross(const double *a, const double *b, double *c)
-{
-  c[0] = a[1] * b[2] - a[2] * b[1];
-  c[1] = a[2] * b[0] - a[0] * b[2];
-  c[2] = a[0] * b[1] - a[1] * b[0];
-}
-
-/* Every rank's `mine`, concatenated in rank order, on every rank (plain structs of one build:
-   sent as bytes). */
-template <class T>
-static std::vector<T> gather_all(const std::vector<T> &mine, MPI_Comm world, int nprocs)
-{
-  std::vector<int> bytes_of(nprocs), displs(nprocs);
-  int bytes = static_cast<int>(mine.size() * sizeof(T));
-  MPI_Allgather(&bytes, 1, MPI_INT, bytes_of.data(), 1, MPI_INT, world);
-  int total = 0;
-  for (int r = 0; r < nprocs; r++) {
-    displs[r] = total;
-    total += bytes_of[r];
-  }
-  std::vector<T> all(total / sizeof(T));
-  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), bytes_of.data(), displs.data(),
-                 MPI_BYTE, world);
-  return all;
-}
-
-/* v turned by the unit quaternion q (w x y z). */
-static void rotate(const double *q, const double *v, double *out)
-{
-  double u[3] = {q[1], q[2], q[3]}, t[3], ut[3];
-  cross(u, v, t);
-  for (int d = 0; d < 3; d++) t[d] *= 2.0;
-  cross(u, t, ut);
-  for (int d = 0; d < 3; d++) out[d] = v[d] + q[0] * t[d] + ut[d];
-}
 
 FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
@@ -112,17 +77,10 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
         error->all(FLERR, "{}: weibull_on = {} must be contact or both", STYLE, on);
       iarg += 2;
     } else if (key == "cohesion") {
-      kic = num(iarg + 1, "cohesion");
-      double n = num(iarg + 2, "cohesion");
-      if (!(kic > 0)) error->all(FLERR, "{}: cohesion KIC = {} must be > 0 (Pa m^0.5)", STYLE, kic);
-      double lo = 0.0, hi = 0.0;
-      fractum_kernel_fracture_range("springs", &lo, &hi);
-      if (!(n >= lo && n <= hi && n == std::floor(n)))
-        error->all(FLERR, "{}: cohesion springs = {} must be an integer in {}..{}", STYLE, n, lo,
-                   hi);
-      springs = static_cast<int>(n);
-      cohesion = 1;
-      iarg += 3;
+      error->all(FLERR,
+                 "{}: cohesion is not an argument of this fix: the cohesive springs are fix "
+                 "fractum/cohesion, `fix ID all fractum/cohesion KIC N` after this fix",
+                 STYLE);
     } else if (key == "critical_contacts") {
       double n = num(iarg + 1, "critical_contacts");
       double lo = 0.0, hi = 0.0;
@@ -167,7 +125,7 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
 
 int FixFractumFracture::setmask()
 {
-  return PRE_EXCHANGE | POST_FORCE | END_OF_STEP;
+  return PRE_EXCHANGE | END_OF_STEP;
 }
 
 void FixFractumFracture::arrays()
@@ -180,10 +138,14 @@ void FixFractumFracture::arrays()
   grain = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, hint);
   walls = fractum_array_if(lmp, "fr_walls");
   travel = fractum_array_if(lmp, "fr_travel");
-  slots = cohesion ? fractum_array(lmp, STYLE, "fr_springs", SPRING_SLOT * springs,
-                                   "declare `fix ID all property/atom d2_fr_springs 21*N` "
-                                   "(N = the springs per break plane)")
-                   : nullptr;
+}
+
+/* The fix fractum/cohesion that bonds the halves, nullptr without one. */
+FixFractumCohesion *FixFractumFracture::find_cohesion() const
+{
+  for (auto &f : modify->get_fix_list())
+    if (utils::strmatch(f->style, "^fractum/cohesion$")) return static_cast<FixFractumCohesion *>(f);
+  return nullptr;
 }
 
 void FixFractumFracture::init()
@@ -211,13 +173,13 @@ void FixFractumFracture::init()
   law.critical_contacts = critical_contacts;
   law.ideal_plane = ideal_plane;
   law.plane_jitter = plane_jitter;
-  law.springs = cohesion ? springs : 0;
-  law.gc = 0.0;
   law.weibull_sigma_c = weibull ? weibull_sigma_c : 0;
-  if (cohesion) {
-    int status = fractum_kernel_cohesive_energy(kic, material->young, material->poisson, &law.gc);
-    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "cohesive_energy", status);
-  }
+  // The cohesive springs, when a fix fractum/cohesion bonds the halves: the split places its
+  // springs' points, and that fix bonds with this law.
+  cohesion = find_cohesion();
+  law.springs = cohesion ? cohesion->springs_per_plane() : 0;
+  law.gc = cohesion ? cohesion->cohesive_energy(*material) : 0.0;
+  if (cohesion) cohesion->use_law(law);
   sums->want_loads(sigma_f);
 }
 
@@ -246,227 +208,9 @@ void FixFractumFracture::setup(int)
       grain[i][0] = draw_strength(atom->tag[i], static_cast<int>(grain[i][2]), b);
     }
   }
-  // The forces of the run's first step include the springs' (not advanced here).
-  spring_forces(false);
   // Splits restored from a restart file are made at the first step (fix fractum/dt schedules
   // its shares for them).
   sums->splits(false, !decisions.empty());
-}
-
-/* Whether slot s of owned atom a (its spring's end A) and slot s of owned atom b hold the two
-   copies of one intact spring. Both ends of a spring store it at the same slot: the halves of
-   a split are bonded at once, into slots cleared at the split (a grain with intact springs
-   never breaks, so an atom holds springs to one partner only). */
-static bool same_spring(const double *at_a, const double *at_b, tagint tag_a, tagint tag_b)
-{
-  return at_a[0] == static_cast<double>(tag_b) && at_a[1] > 0.0 && at_a[20] == 0.0 &&
-      at_b[0] == static_cast<double>(tag_a) && at_b[1] < 0.0 && at_b[20] == 0.0;
-}
-
-/* The cohesive springs of the owned atoms. Both ends hold a copy, advanced identically; a
-   spring whose ends are both owned here (the partner its own closest image) is evaluated once,
-   by its end A, which applies it to both atoms and writes both copies: the bits of evaluating
-   it from each end. A spring to a ghost is evaluated by each end's rank for its own atom.
-   (`advance` false: their forces now, the springs left as they are.) */
-void FixFractumFracture::spring_forces(bool advance)
-{
-  if (!cohesion) return;
-  double **f = atom->f, **torque = atom->torque;
-  tagint *tag = atom->tag;
-  const int nlocal = atom->nlocal;
-  FractumBody bi, bj;
-  for (int i = 0; i < nlocal; i++) {
-    if (grain[i][3] == 0.0) continue;
-    for (int s = 0; s < springs; s++) {
-      double *slot = &slots[i][SPRING_SLOT * s];
-      if (slot[0] == 0.0 || slot[20] != 0.0) continue;
-      tagint partner = static_cast<tagint>(slot[0]);
-      int j = atom->map(partner);
-      if (j < 0)
-        error->one(FLERR,
-                   "{}: atom {} holds a cohesive spring to atom {}, which is neither owned nor a "
-                   "ghost here: raise the communication cutoff (comm_modify cutoff)",
-                   STYLE, tag[i], partner);
-      const bool is_a = slot[1] > 0.0;
-      // A spring evaluated once here: end A's closest image of B is B itself, owned here.
-      double *other = nullptr;
-      if (is_a) {
-        j = domain->closest_image(i, j);
-        if (j < nlocal && same_spring(slot, &slots[j][SPRING_SLOT * s], tag[i], partner))
-          other = &slots[j][SPRING_SLOT * s];
-      } else if (j < nlocal) {
-        // End B: end A (owned here) evaluates it when its closest image of this atom is this
-        // atom, the test end A makes.
-        const int seen = domain->closest_image(j, i);
-        if (seen < nlocal && same_spring(&slots[j][SPRING_SLOT * s], slot, partner, tag[i]))
-          continue;
-        j = domain->closest_image(i, j);
-      } else {
-        j = domain->closest_image(i, j);
-      }
-      fractum_body(atom, shape, quat, inertia, i, bi);
-      fractum_body(atom, shape, quat, inertia, j, bj);
-      FractumSpring sp;
-      std::memcpy(sp.on_a, &slot[2], 3 * sizeof(double));
-      std::memcpy(sp.on_b, &slot[5], 3 * sizeof(double));
-      std::memcpy(sp.direction, &slot[8], 3 * sizeof(double));
-      sp.f0 = slot[11];
-      sp.k = slot[12];
-      sp.opening = slot[13];
-      std::memcpy(sp.last_gap, &slot[14], 3 * sizeof(double));
-      std::memcpy(sp.last_force, &slot[17], 3 * sizeof(double));
-      sp.broken = 0;
-      double fa[3], ta[3], tb[3], work = 0.0;
-      int broke = 0;
-      int status = fractum_kernel_spring(&sp, is_a ? &bi : &bj, is_a ? &bj : &bi, fa, ta, tb,
-                                         &work, &broke);
-      if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "spring", status);
-      if (!advance) {
-        if (broke) continue;
-      } else {
-        for (double *copy : {slot, other}) {
-          if (!copy) continue;
-          copy[13] = sp.opening;
-          std::memcpy(&copy[14], sp.last_gap, 3 * sizeof(double));
-          std::memcpy(&copy[17], sp.last_force, 3 * sizeof(double));
-        }
-      }
-      if (broke) {
-        slot[20] = 1.0;
-        grain[i][3] -= 1.0;
-        if (other) {
-          other[20] = 1.0;
-          grain[j][3] -= 1.0;
-        }
-        continue;
-      }
-      for (int k = 0; k < 3; k++) {
-        f[i][k] += is_a ? fa[k] : -fa[k];
-        torque[i][k] += is_a ? ta[k] : tb[k];
-      }
-      if (other)
-        for (int k = 0; k < 3; k++) {
-          f[j][k] -= fa[k];
-          torque[j][k] += tb[k];
-        }
-    }
-  }
-}
-
-void FixFractumFracture::post_force(int)
-{
-  arrays();
-  spring_forces(true);
-  if (!pending.empty()) bond();
-}
-
-/* The springs of this step's splits, from the halves' forces at their new shapes. */
-void FixFractumFracture::bond()
-{
-  // Each rank sends the body, force and torque of the halves it owns; every rank then sees
-  // both halves of every split.
-  struct Half {
-    FractumBody body;
-    double force[3], torque[3];
-    tagint tag;
-  };
-  std::vector<Half> mine;
-  for (const Pending &p : pending)
-    for (tagint t : {p.a, p.b}) {
-      int i = atom->map(t);
-      if (i < 0 || i >= atom->nlocal) continue;
-      Half h;
-      std::memset(&h, 0, sizeof h);
-      fractum_body(atom, shape, quat, inertia, i, h.body);
-      for (int k = 0; k < 3; k++) {
-        h.force[k] = atom->f[i][k];
-        h.torque[k] = atom->torque[i][k];
-      }
-      h.tag = t;
-      mine.push_back(h);
-    }
-  const std::vector<Half> all = gather_all(mine, world, comm->nprocs);
-  auto find = [&](tagint t) -> const Half * {
-    for (const Half &h : all)
-      if (h.tag == t) return &h;
-    return nullptr;
-  };
-  double **f = atom->f, **torque = atom->torque;
-  for (const Pending &p : pending) {
-    const Half *ha = find(p.a), *hb = find(p.b);
-    if (!ha || !hb)
-      error->all(FLERR, "{}: the halves {} and {} of a split were not found after the split",
-                 STYLE, p.a, p.b);
-    int ia = atom->map(p.a), ib = atom->map(p.b);
-    const bool own_a = ia >= 0 && ia < atom->nlocal, own_b = ib >= 0 && ib < atom->nlocal;
-    if (!own_a && !own_b) continue;
-    FractumSpring made[16];
-    int count = 0;
-    int status = fractum_kernel_bond(&law, &ha->body, &hb->body, ha->force, ha->torque,
-                                     hb->force, hb->torque, &p.p, made, &count);
-    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "bond", status);
-    // Each spring's initial force at once, as Fractum applies it: on A at the spring's point
-    // (lever from A's centre), the opposite on B (lever from B's centre).
-    double fa_sum[3] = {0, 0, 0}, ta_sum[3] = {0, 0, 0}, tb_sum[3] = {0, 0, 0};
-    for (int k = 0; k < count; k++) {
-      const double *fk = made[k].last_force;
-      double lever[3], world_b[3];
-      if (count == p.p.count) {
-        for (int d = 0; d < 3; d++) lever[d] = p.p.points[k][d] - ha->body.pos[d];
-      } else {
-        rotate(ha->body.quat, made[k].on_a, lever);
-      }
-      for (int d = 0; d < 3; d++) world_b[d] = lever[d] + ha->body.pos[d] - hb->body.pos[d];
-      double tak[3], tbk[3];
-      cross(lever, fk, tak);
-      cross(world_b, fk, tbk);
-      for (int d = 0; d < 3; d++) {
-        fa_sum[d] += fk[d];
-        ta_sum[d] += tak[d];
-        tb_sum[d] -= tbk[d];
-      }
-    }
-    auto store = [&](int i, tagint partner, double role) {
-      int s = 0;
-      for (int k = 0; k < count; k++) {
-        while (s < springs && slots[i][SPRING_SLOT * s] != 0.0 &&
-               slots[i][SPRING_SLOT * s + 20] == 0.0)
-          s++;
-        if (s >= springs)
-          error->one(FLERR, "{}: atom {} has no free spring slot", STYLE, atom->tag[i]);
-        double *slot = &slots[i][SPRING_SLOT * s];
-        const FractumSpring &sp = made[k];
-        slot[0] = static_cast<double>(partner);
-        slot[1] = role;
-        std::memcpy(&slot[2], sp.on_a, 3 * sizeof(double));
-        std::memcpy(&slot[5], sp.on_b, 3 * sizeof(double));
-        std::memcpy(&slot[8], sp.direction, 3 * sizeof(double));
-        slot[11] = sp.f0;
-        slot[12] = sp.k;
-        slot[13] = sp.opening;
-        std::memcpy(&slot[14], sp.last_gap, 3 * sizeof(double));
-        std::memcpy(&slot[17], sp.last_force, 3 * sizeof(double));
-        slot[20] = 0.0;
-        s++;
-      }
-      grain[i][3] += count;
-    };
-    if (own_a) {
-      store(ia, p.b, 1.0);
-      for (int k = 0; k < 3; k++) {
-        f[ia][k] += fa_sum[k];
-        torque[ia][k] += ta_sum[k];
-      }
-    }
-    if (own_b) {
-      store(ib, p.a, -1.0);
-      for (int k = 0; k < 3; k++) {
-        f[ib][k] -= fa_sum[k];
-        torque[ib][k] += tb_sum[k];
-      }
-    }
-  }
-  pending.clear();
 }
 
 void FixFractumFracture::end_of_step()
@@ -505,7 +249,7 @@ void FixFractumFracture::end_of_step()
     }
     mine.push_back(d);
   }
-  decisions = gather_all(mine, world, comm->nprocs);
+  decisions = fractum_gather_all(mine, world, comm->nprocs);
   if (!decisions.empty()) {
     std::sort(decisions.begin(), decisions.end(),
               [](const Decision &x, const Decision &y) { return x.tag < y.tag; });
@@ -593,15 +337,14 @@ void FixFractumFracture::pre_exchange()
     grain[i][3] = 0.0;
     if (walls)
       for (int w = 0; w < 6; w++) walls[i][WALL_SLOT * w + 6] = 0.0;
-    if (slots)
-      for (int s = 0; s < springs * SPRING_SLOT; s++) slots[i][s] = 0.0;
+    if (cohesion) cohesion->clear(i);
     m.grain[1] = grain[i][1];
     m.grain[2] = generation + 1;
     mine.push_back(m);
   }
   // Every rank learns every split; the new halves get tags after the largest one, in parent
   // tag order, so that the tags do not depend on the rank count.
-  std::vector<Made> all = gather_all(mine, world, comm->nprocs);
+  std::vector<Made> all = fractum_gather_all(mine, world, comm->nprocs);
   std::sort(all.begin(), all.end(), [](const Made &x, const Made &y) { return x.parent < y.parent; });
   tagint maxtag_local = 0, maxtag = 0;
   for (int i = 0; i < atom->nlocal; i++) maxtag_local = std::max(maxtag_local, atom->tag[i]);
@@ -703,8 +446,7 @@ void FixFractumFracture::pre_exchange()
       fractum_store_body(atom, shape, quat, inertia, i, all[k].minus);
       // A created atom's custom arrays hold whatever the slot held before (an atom that
       // left): the half starts with no springs and no face contacts.
-      if (slots)
-        for (int s = 0; s < springs * SPRING_SLOT; s++) slots[i][s] = 0.0;
+      if (cohesion) cohesion->clear(i);
       if (walls)
         for (int s = 0; s < 6 * WALL_SLOT; s++) walls[i][s] = 0.0;
       // Its travel starts at 0: any start would do for the skip (its pairs are new), but a
@@ -717,7 +459,6 @@ void FixFractumFracture::pre_exchange()
       grain[i][4] = static_cast<double>(all[k].parent);
     }
   }
-  pending.clear();
   split_evaluated = n > 0;
   for (int k = 0; k < n; k++) {
     // Every rank that computes a contact of the parent starts its held Hertz radius afresh.
@@ -726,7 +467,7 @@ void FixFractumFracture::pre_exchange()
     counts[1] += all[k].first_split;
     counts[2] += all[k].criterion == 1;
     counts[3] += all[k].criterion == 2;
-    if (cohesion) pending.push_back(Pending{all[k].parent, ids[k], all[k].p});
+    if (cohesion) cohesion->bond_next(all[k].parent, ids[k], all[k].p);
   }
   // Every rank holds the maxima over all splits so far: a restart file (written by rank 0)
   // carries them.
@@ -744,13 +485,10 @@ double FixFractumFracture::compute_vector(int n)
   if (n >= 8) return split_audit[n - 8];
   double local = 0.0, global = 0.0;
   if (n == 4) {
-    arrays();
-    if (slots)
-      for (int i = 0; i < atom->nlocal; i++)
-        for (int s = 0; s < springs; s++) {
-          const double *slot = &slots[i][SPRING_SLOT * s];
-          if (slot[0] != 0.0 && slot[20] == 0.0 && slot[1] > 0.0) local += 1.0;
-        }
+    // Fix fractum/cohesion's count (its global scalar), kept here so that a script's columns
+    // stay where they were; looked up now, as the fix may have been removed since the run.
+    FixFractumCohesion *springs = find_cohesion();
+    return springs ? springs->compute_scalar() : 0.0;
   } else if (n == 5) {
     local = sums->energy();
   } else {

@@ -32,7 +32,10 @@
 #include "error.h"
 #include "pointers.h"
 
+#include <mpi.h>
+
 #include <string>
+#include <vector>
 
 extern "C" {
 #include "fractum.h"
@@ -137,6 +140,25 @@ struct FractumMaterial {
    libfractum's fractum_kernel_contact_law builds it; `style` names the caller in an error. */
 FractumContactLaw fractum_contact_law(LAMMPS *lmp, const char *style, const FractumMaterial &m,
                                       double mu);
+
+/* Every rank's `mine`, concatenated in rank order, on every rank (plain structs of one build:
+   sent as bytes). */
+template <class T>
+inline std::vector<T> fractum_gather_all(const std::vector<T> &mine, MPI_Comm world, int nprocs)
+{
+  std::vector<int> bytes_of(nprocs), displs(nprocs);
+  int bytes = static_cast<int>(mine.size() * sizeof(T));
+  MPI_Allgather(&bytes, 1, MPI_INT, bytes_of.data(), 1, MPI_INT, world);
+  int total = 0;
+  for (int r = 0; r < nprocs; r++) {
+    displs[r] = total;
+    total += bytes_of[r];
+  }
+  std::vector<T> all(total / sizeof(T));
+  MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), bytes_of.data(), displs.data(),
+                 MPI_BYTE, world);
+  return all;
+}
 
 /* One sentence for a failed kernel call (never expected: the arguments come from checked
    state). */

@@ -2,6 +2,7 @@
 #include "lammpsplugin.h"
 
 #include "compute_fractum_loads.h"
+#include "fix_fractum_cohesion.h"
 #include "fix_fractum_dt.h"
 #include "fix_fractum_fracture.h"
 #include "fix_fractum_nve_polyell.h"
@@ -126,8 +127,13 @@ extern "C" void lammpsplugin_init(void *lmp, void *handle, void *regfunc)
   (*reg)(&plugin, lmp);
 
   plugin.name = "fractum/fracture";
-  plugin.info = "Fractum grain fracture: criteria, splits, cohesive springs";
+  plugin.info = "Fractum grain fracture: criteria and splits";
   plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_creator<FixFractumFracture>;
+  (*reg)(&plugin, lmp);
+
+  plugin.name = "fractum/cohesion";
+  plugin.info = "Fractum cohesive springs between the halves of split grains";
+  plugin.creator.v2 = (lammpsplugin_factory2 *) &fix_creator<FixFractumCohesion>;
   (*reg)(&plugin, lmp);
 
   plugin.name = "fractum/dt";

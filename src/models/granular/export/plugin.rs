@@ -123,7 +123,8 @@ pub fn first_forces(sim: &Simulation) -> String {
 /// A LAMMPS input that runs the scene with the Fractum plugin from `data_file`: Fractum's
 /// contact law for spheres and poly-ellipsoids (`pair fractum/granular`), its integrator
 /// (`fix fractum/nve/polyell`), its walls as moving box faces (`fix fractum/platens`) and,
-/// with the `fracture` effect, grain fracture (`fix fractum/fracture`), at Fractum's time
+/// with the `fracture` effect, grain fracture (`fix fractum/fracture`; with `cohesion`, its
+/// springs: `fix fractum/cohesion`), at Fractum's time
 /// step for Fractum's number of steps. `series_file` gets, every `output.every` steps, the
 /// time, each face's force (N, the grains on the face along its axis) and position (m), the
 /// number of atoms and, with fracture, the splits and grains broken.
@@ -281,10 +282,16 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
                 line.push_str(" weibull_on both");
             }
         }
-        if let Some((_, ns)) = p.cohesion {
-            let _ = write!(line, " cohesion {:e} {ns}", plan.cfg.fracture.toughness);
-        }
         let _ = writeln!(s, "{line}");
+        // The cohesive springs between the halves (after the fracture fix, whose splits they
+        // bond, and after the faces, as Fractum adds the springs' forces after theirs).
+        if let Some((_, ns)) = p.cohesion {
+            let _ = writeln!(
+                s,
+                "fix             cohesion all fractum/cohesion {:e} {ns}",
+                plan.cfg.fracture.toughness
+            );
+        }
         // The step against the contacts (after the fracture fix: it reads the step's splits):
         // adapted as Fractum's, or, with a step in seconds, checked at every step.
         if let Some(omega_dt) = adapt {
