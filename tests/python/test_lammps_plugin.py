@@ -417,9 +417,11 @@ def split_run(folder, ranks, steps, restart_at=None, adapt_omega_dt=None, travel
     export's target when given; without the travels, so without the separated pairs' skip,
     when `travel` is false); the final atoms (the travel last, when declared), and what the
     fracture fix reports (splits, the split audit, atoms) with fix fractum/dt's (times the step
-    was shortened, the step)."""
+    was shortened, the step) and the intact springs (fix fractum/cohesion's scalar, and the
+    fracture fix's entry 5 that repeats it)."""
     report = ('print "FRACTURE $(f_fracture[1]) $(f_fracture[9]) $(f_fracture[10]) '
-              '$(f_fracture[11]) $(atoms) $(f_dt[1]) $(f_dt[2]:%.17g)"\n'
+              '$(f_fracture[11]) $(atoms) $(f_dt[1]) $(f_dt[2]:%.17g) $(f_cohesion) '
+              '$(f_fracture[5])"\n'
               "write_dump all custom final.dump id mass radius x y z vx vy vz d2_fr_grain[5] "
               "d2_fr_grain[1]" + (" d2_fr_travel[1]" if travel else "") +
               " modify format float %.17g")
@@ -605,13 +607,16 @@ def test_one_and_two_ranks_agree_and_splits_conserve(tmp_path):
     folder = str(tmp_path)
     export_small(folder)
     one, report_one = split_run(folder, 1, 3000, adapt_omega_dt=0.2)
-    splits, mass_err, p_err, overlap, atoms, shortened, dt = report_one
+    splits, mass_err, p_err, overlap, atoms, shortened, dt, springs, springs_too = report_one
     two, report_two = split_run(folder, 2, 3000, adapt_omega_dt=0.2)
     print(f"{splits:.0f} splits, {atoms:.0f} atoms; mass change {mass_err:.3g}, momentum "
           f"change {p_err:.3g}, overlap of halves {overlap:.3g} m; step shortened "
-          f"{shortened:.0f} times to {dt:.6g} s")
+          f"{shortened:.0f} times to {dt:.6g} s; {springs:.0f} intact springs")
     assert splits >= 10
     assert shortened > 0
+    # Each split bonds its halves by the scene's 4 springs per plane, some broken since; the
+    # 2-rank run (springs to ghosts evaluated from both ends, the others once) counts the same.
+    assert springs == springs_too and 0 < springs <= 4 * splits
     assert report_two == report_one
     assert one.shape == two.shape
     assert np.array_equal(one[:, [0, 1, 2, 9]], two[:, [0, 1, 2, 9]])
