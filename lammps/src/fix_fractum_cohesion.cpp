@@ -58,12 +58,7 @@ int FixFractumCohesion::setmask()
 
 void FixFractumCohesion::arrays()
 {
-  const char *hint = "declare the fix property/atom arrays d2_fr_shape 7, d2_fr_orient 7, "
-                     "d2_fr_inertia 7 and d2_fr_grain 5 (ghost yes) before read_data";
-  shape = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, hint);
-  quat = fractum_array(lmp, STYLE, "fr_orient", QUAT_COLS, hint);
-  inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
-  grain = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, hint);
+  fractum_grain_arrays(lmp, STYLE, shape, quat, inertia, grain);
   slots = fractum_array(lmp, STYLE, "fr_springs", SPRING_SLOT * springs,
                         "declare `fix ID all property/atom d2_fr_springs 21*N` "
                         "(N = the springs per break plane)");

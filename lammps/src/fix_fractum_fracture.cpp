@@ -130,12 +130,7 @@ int FixFractumFracture::setmask()
 
 void FixFractumFracture::arrays()
 {
-  const char *hint = "declare the fix property/atom arrays d2_fr_shape 7, d2_fr_orient 7, "
-                     "d2_fr_inertia 7 and d2_fr_grain 5 (ghost yes) before read_data";
-  shape = fractum_array(lmp, STYLE, "fr_shape", SHAPE_COLS, hint);
-  quat = fractum_array(lmp, STYLE, "fr_orient", QUAT_COLS, hint);
-  inertia = fractum_array(lmp, STYLE, "fr_inertia", INERTIA_COLS, hint);
-  grain = fractum_array(lmp, STYLE, "fr_grain", GRAIN_COLS, hint);
+  fractum_grain_arrays(lmp, STYLE, shape, quat, inertia, grain);
   walls = fractum_array_if(lmp, "fr_walls");
   travel = fractum_array_if(lmp, "fr_travel");
 }

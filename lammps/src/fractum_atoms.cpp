@@ -32,6 +32,17 @@ double **LAMMPS_NS::fractum_array(LAMMPS *lmp, const char *style, const char *na
   return a;
 }
 
+void LAMMPS_NS::fractum_grain_arrays(LAMMPS *lmp, const char *style, double **&shape,
+                                     double **&quat, double **&inertia, double **&grain)
+{
+  const char *hint = "declare the fix property/atom arrays d2_fr_shape 7, d2_fr_orient 7, "
+                     "d2_fr_inertia 7 and d2_fr_grain 5 (ghost yes) before read_data";
+  shape = fractum_array(lmp, style, "fr_shape", SHAPE_COLS, hint);
+  quat = fractum_array(lmp, style, "fr_orient", QUAT_COLS, hint);
+  inertia = fractum_array(lmp, style, "fr_inertia", INERTIA_COLS, hint);
+  grain = fractum_array(lmp, style, "fr_grain", GRAIN_COLS, hint);
+}
+
 void LAMMPS_NS::fractum_kernel_failed(LAMMPS *lmp, const char *style, const char *kernel,
                                       int status)
 {

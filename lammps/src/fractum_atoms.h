@@ -47,6 +47,10 @@ namespace LAMMPS_NS {
    sentence naming the style and the missing array when it is absent or too narrow. */
 double **fractum_array(LAMMPS *lmp, const char *style, const char *name, int min_cols,
                        const char *hint);
+/* The grain arrays the fracture styles read (d2_fr_shape, _orient, _inertia, _grain), each as
+   fractum_array gives it: one sentence naming `style` and the first one missing. */
+void fractum_grain_arrays(LAMMPS *lmp, const char *style, double **&shape, double **&quat,
+                          double **&inertia, double **&grain);
 /* The same, nullptr when absent. */
 double **fractum_array_if(LAMMPS *lmp, const char *name, int *cols = nullptr);
 
