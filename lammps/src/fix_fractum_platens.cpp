@@ -5,6 +5,7 @@
 #include "error.h"
 #include "force.h"
 #include "input.h"
+#include "neighbor.h"
 #include "fractum_sums.h"
 #include "pair.h"
 #include "update.h"
@@ -162,8 +163,8 @@ void FixFractumPlatens::post_force(int)
   FractumContact out;
   double **f = atom->f, **torque = atom->torque;
   double **x = atom->x, *radius = atom->radius;
-  for (int i = 0; i < atom->nlocal; i++) {
-    if (!(atom->mask[i] & groupbit)) continue;
+  if (near_stale()) near_atoms(walls);
+  for (const int i : near) {
     bool placed = false;
     for (int w = 0; w < FACES; w++) {
       if (!active[w]) continue;
@@ -203,6 +204,57 @@ void FixFractumPlatens::post_force(int)
     }
   }
   reduced_at = -1;
+}
+
+/* The atoms near the faces are listed again when LAMMPS rebuilt its neighbour lists in this
+   step (atoms were exchanged, sorted, created or reshaped by splits), the owned count
+   changed, or a face moved half a skin since; always when LAMMPS does not check at every
+   step that no atom moved half a skin (the bound the list relies on). */
+bool FixFractumPlatens::near_stale() const
+{
+  if (!(neighbor->dist_check && neighbor->every == 1 && neighbor->delay == 0)) return true;
+  if (neighbor->ago == 0 || atom->nlocal != near_nlocal) return true;
+  const double half_skin2 = 0.25 * neighbor->skin * neighbor->skin;
+  for (int w = 0; w < FACES; w++) {
+    if (!active[w]) continue;
+    double d2 = 0.0;
+    for (int d = 0; d < 3; d++) d2 += (point[w][d] - near_point[w][d]) * (point[w][d] - near_point[w][d]);
+    if (d2 > half_skin2) return true;
+  }
+  return false;
+}
+
+/* The owned atoms of the group within their radius and two skins of an active face, or
+   remembering a contact with one. Until the list is built again an atom moves at most a
+   skin from where it was listed (half a skin either side of LAMMPS's last rebuild) and a
+   face at most half a skin, so an atom left out stays half a skin clear of every face: the
+   loop over the listed atoms calls the wall kernel for the same atoms, in the same order, as
+   a loop over all atoms would. */
+void FixFractumPlatens::near_atoms(double **walls)
+{
+  near.clear();
+  double **x = atom->x, *radius = atom->radius;
+  const double reach = 2.0 * neighbor->skin;
+  for (int i = 0; i < atom->nlocal; i++) {
+    if (!(atom->mask[i] & groupbit)) continue;
+    for (int w = 0; w < FACES; w++) {
+      if (!active[w]) continue;
+      const double clear = (x[i][0] - point[w][0]) * normal[w][0] +
+          (x[i][1] - point[w][1]) * normal[w][1] + (x[i][2] - point[w][2]) * normal[w][2];
+      const auto *stored =
+          walls ? reinterpret_cast<const FractumPairMemory *>(&walls[i][WALL_SLOT * w]) : nullptr;
+      const bool remembers = stored &&
+          (stored->hist[0] != 0.0 || stored->hist[1] != 0.0 || stored->hist[2] != 0.0 ||
+           stored->radius != 0.0);
+      if (clear < radius[i] + reach || remembers) {
+        near.push_back(i);
+        break;
+      }
+    }
+  }
+  for (int w = 0; w < FACES; w++)
+    for (int d = 0; d < 3; d++) near_point[w][d] = point[w][d];
+  near_nlocal = atom->nlocal;
 }
 
 double FixFractumPlatens::compute_vector(int n)

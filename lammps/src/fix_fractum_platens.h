@@ -19,6 +19,7 @@
 #include "fractum_atoms.h"
 
 #include <string>
+#include <vector>
 
 namespace LAMMPS_NS {
 
@@ -51,7 +52,14 @@ class FixFractumPlatens : public Fix {
   double local[2 * FACES] = {};    // force along the axis, contacts (this rank)
   double global[2 * FACES] = {};
   bigint reduced_at = -1;
+  // The owned atoms of the group that may touch a face before the list is built again, in
+  // index order (`near_atoms`), and the faces' positions and the owned count when it was.
+  std::vector<int> near;
+  double near_point[FACES][3] = {};
+  int near_nlocal = -1;
   void speeds();
+  bool near_stale() const;
+  void near_atoms(double **walls);
 };
 
 }    // namespace LAMMPS_NS

@@ -61,34 +61,42 @@ enum { SHAPE_COLS = 7, QUAT_COLS = 7, INERTIA_COLS = 7, GRAIN_COLS = 5, WALL_SLO
 inline void fractum_body(Atom *atom, double **shape, double **quat, double **inertia, int i,
                          FractumBody &b)
 {
+  // Built in a local and copied once: as far as the compiler knows b's stores could alias
+  // LAMMPS's arrays, and it would reload what it reads after each (this runs for every atom
+  // at every evaluation of the pair, the fracture check and the springs).
+  const double *x = atom->x[i], *v = atom->v[i], *omega = atom->omega[i];
+  const double mass = atom->rmass[i], radius = atom->radius[i];
+  FractumBody out;
   for (int k = 0; k < 3; k++) {
-    b.pos[k] = atom->x[i][k];
-    b.vel[k] = atom->v[i][k];
-    b.omega[k] = atom->omega[i][k];
+    out.pos[k] = x[k];
+    out.vel[k] = v[k];
+    out.omega[k] = omega[k];
   }
-  b.mass = atom->rmass[i];
-  b.radius = atom->radius[i];
+  out.mass = mass;
+  out.radius = radius;
   if (!shape) {
-    const double moment = 0.4 * b.mass * b.radius * b.radius;
+    const double moment = 0.4 * mass * radius * radius;
     for (int k = 0; k < 3; k++) {
-      b.inertia[k] = moment;
-      b.origin[k] = 0.0;
+      out.inertia[k] = moment;
+      out.origin[k] = 0.0;
     }
-    for (int k = 0; k < 4; k++) b.quat[k] = b.to_body[k] = k == 0 ? 1.0 : 0.0;
-    for (int k = 0; k < 6; k++) b.semi[k] = b.radius;
-    b.sphere = 1;
-    return;
+    for (int k = 0; k < 4; k++) out.quat[k] = out.to_body[k] = k == 0 ? 1.0 : 0.0;
+    for (int k = 0; k < 6; k++) out.semi[k] = radius;
+    out.sphere = 1;
+  } else {
+    const double *s = shape[i], *q = quat[i], *in = inertia[i];
+    for (int k = 0; k < 3; k++) {
+      out.inertia[k] = in[k];
+      out.origin[k] = q[4 + k];
+    }
+    for (int k = 0; k < 4; k++) {
+      out.quat[k] = q[k];
+      out.to_body[k] = in[3 + k];
+    }
+    for (int k = 0; k < 6; k++) out.semi[k] = s[1 + k];
+    out.sphere = s[0] != 0.0 ? 1 : 0;
   }
-  for (int k = 0; k < 3; k++) {
-    b.inertia[k] = inertia[i][k];
-    b.origin[k] = quat[i][4 + k];
-  }
-  for (int k = 0; k < 4; k++) {
-    b.quat[k] = quat[i][k];
-    b.to_body[k] = inertia[i][3 + k];
-  }
-  for (int k = 0; k < 6; k++) b.semi[k] = shape[i][1 + k];
-  b.sphere = shape[i][0] != 0.0 ? 1 : 0;
+  b = out;
 }
 
 /* Writes b's shape, orientation, inertia, mass, radius, velocities and position into atom i. */
