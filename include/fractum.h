@@ -152,6 +152,46 @@ typedef struct FractumPlacement {
   double rot[9];
 } FractumPlacement;
 
+// A host's neighbour list as LAMMPS keeps it (`NeighList` with the history fix's pages):
+// row `ii` of `inum` is atom `ilist[ii]`, its `numneigh[i]` candidates at `firstneigh[i]`
+// (each `& index_mask` a partner's index), and, where the host keeps the pairs' records,
+// each candidate's record of `stride` doubles at `firstvalue[i]` and its kept flag at
+// `firsttouch[i]` (both null: no records kept; `stride` still sets the records' layout).
+typedef struct FractumNeighbours {
+  int32_t inum;
+  const int32_t *ilist;
+  const int32_t *numneigh;
+  const int32_t *const *firstneigh;
+  int32_t index_mask;
+  int32_t *const *firsttouch;
+  double *const *firstvalue;
+  int32_t stride;
+} FractumNeighbours;
+
+// One touching pair contact of a host's evaluation, as `fractum_kernel_sum_contacts` sums
+// it into its two atoms: the force on atom `i` (the opposite on `j`), each atom's torque,
+// and what fracture and the step adaptation read of it.
+typedef struct FractumTouching {
+  // The host's index of the atom whose row found the contact.
+  int32_t i;
+  // The host's index of its partner.
+  int32_t j;
+  // Force on `i` (N); `j` takes the opposite.
+  double force[3];
+  // Torque on `i` (N m, world).
+  double torque_i[3];
+  // Torque on `j` (N m, world).
+  double torque_j[3];
+  // Contact point (m).
+  double point[3];
+  // Hertz normal force (N) and held Hertz radius (m): the contact tensile stress.
+  double hertz_force;
+  double radius;
+  // The contact's shares of `i`'s and `j`'s rows of the frequency bound (rad²/s²).
+  double share_i;
+  double share_j;
+} FractumTouching;
+
 // Grain fracture constants (FractureParams, resolved).
 typedef struct FractumFractureLaw {
   // Hoek-Brown m_i (dimensionless).
@@ -293,30 +333,6 @@ typedef struct FractumAtomRows {
   // (`fractum_kernel_travel`); null: not summed. Read with `quat` only.
   double *const *travel;
 } FractumAtomRows;
-
-// One touching pair contact of a host's evaluation, as `fractum_kernel_sum_contacts` sums
-// it into its two atoms: the force on atom `i` (the opposite on `j`), each atom's torque,
-// and what fracture and the step adaptation read of it.
-typedef struct FractumTouching {
-  // The host's index of the atom whose row found the contact.
-  int32_t i;
-  // The host's index of its partner.
-  int32_t j;
-  // Force on `i` (N); `j` takes the opposite.
-  double force[3];
-  // Torque on `i` (N m, world).
-  double torque_i[3];
-  // Torque on `j` (N m, world).
-  double torque_j[3];
-  // Contact point (m).
-  double point[3];
-  // Hertz normal force (N) and held Hertz radius (m): the contact tensile stress.
-  double hertz_force;
-  double radius;
-  // The contact's shares of `i`'s and `j`'s rows of the frequency bound (rad²/s²).
-  double share_i;
-  double share_j;
-} FractumTouching;
 
 #ifdef __cplusplus
 extern "C" {
@@ -635,6 +651,47 @@ enum FractumStatus fractum_kernel_pair_row(const struct FractumContactLaw *law,
                                            struct FractumContact *out,
                                            int32_t *at,
                                            int32_t *n_out);
+
+// Every row of a host's neighbour list `list` in one call: each row's contacts as
+// `fractum_kernel_pair_row` computes them (the same bodies, placements, keys, travels and
+// records), gathered for `fractum_kernel_sum_contacts`.
+//
+// - `touching` (room for `capacity`, the list's candidates suffice) receives each touching
+//   contact in the rows' order, as its row's atom `i` sees it (force and torques swapped
+//   back where the partner was body A), with both atoms' shares of the frequency bound
+//   when `shares` is nonzero; `*n_touching` their count.
+// - `sides` (room for `2 capacity`) receives the codes `fractum_kernel_sum_contacts`
+//   takes, ordered for its sums: the owned atoms (below `n_local`) in index order, each
+//   one's contacts in the order of its partners' keys (the same bits on any rank count);
+//   `*n_sides` their count.
+// - `energy[0]` and `energy[1]` grow by the contacts' elastic energy and dissipation, each
+//   contact counted where its body A is owned.
+// - Records: with `keep` nonzero each row's stored records are updated in place (and its
+//   kept flags set); with `keep` 0 they are computed on copies and left as they were, the
+//   kept flags set from the stored records. A record whose pair involves a key of
+//   `reshaped` (`n_reshaped` keys, sorted) starts afresh: its held Hertz radius and its
+//   reach (doubles 6 and 7) are cleared first.
+enum FractumStatus fractum_kernel_pair_list(const struct FractumContactLaw *law,
+                                            const struct FractumBody *bodies,
+                                            const struct FractumPlacement *places,
+                                            const int64_t *keys,
+                                            const double *travel,
+                                            int32_t n_bodies,
+                                            int32_t n_local,
+                                            const struct FractumNeighbours *list,
+                                            int32_t keep,
+                                            const int64_t *reshaped,
+                                            size_t n_reshaped,
+                                            double dt,
+                                            int32_t update,
+                                            int32_t shapes,
+                                            int32_t shares,
+                                            struct FractumTouching *touching,
+                                            size_t capacity,
+                                            size_t *n_touching,
+                                            int32_t *sides,
+                                            size_t *n_sides,
+                                            double *energy);
 
 // The contact of body `a` with the wall through `wall_point` (3 doubles, m) of unit normal
 // `wall_normal` (3 doubles, into the bodies' side) moving at `wall_velocity` (3 doubles,

@@ -171,13 +171,6 @@ void PairFractumGranular::check_history()
                STYLE, history->dnum, HISTORY, history->nlocal_neigh, atom->nlocal);
 }
 
-void PairFractumGranular::reset_record(double *r)
-{
-  // A new shape: the held Hertz radius starts afresh, and the pair's old gap tells nothing.
-  r[6] = 0.0;
-  r[7] = 0.0;
-}
-
 void PairFractumGranular::compute(int eflag, int vflag)
 {
   ev_init(eflag, vflag);
@@ -207,20 +200,12 @@ void PairFractumGranular::compute(int eflag, int vflag)
   if (history && neighbor->ago == 0) check_history();
   sums.begin(nlocal);
   const bool frequency_due = sums.shares_wanted();
-  touching.clear();
-  sides.clear();
   const std::vector<tagint> &reshaped = sums.reshaped_sorted();
-  const bool any_reshaped = !reshaped.empty();
   const int update_history = update->setupflag ? 0 : 1;
   const bool keep_memory = fractum_keep_memory(update->setupflag, update->ntimestep);
-  const double dt = update->dt;
 
-  int inum = list->inum;
-  int *ilist = list->ilist, *numneigh = list->numneigh, **firstneigh = list->firstneigh;
-  int **firsttouch = history ? history->firstflag : nullptr;
-  double **firstvalue = history ? history->firstvalue : nullptr;
   // The partners' tags order each pair (the lower tag is body A), and with shapes the
-  // bodies' travels (d2_fr_travel, summed by fix fractum/nve/polyell) let the row kernel skip
+  // bodies' travels (d2_fr_travel, summed by fix fractum/nve/polyell) let the kernel skip
   // the pairs found apart that cannot have closed since, as Fractum's own loop does.
   keys.resize(nall);
   for (int i = 0; i < nall; i++) keys[i] = tag[i];
@@ -229,100 +214,38 @@ void PairFractumGranular::compute(int eflag, int vflag)
     travel.resize(nall);
     for (int i = 0; i < nall; i++) travel[i] = travel_arr[i][0];
   }
+  reshaped_keys.assign(reshaped.begin(), reshaped.end());
 
-  for (int ii = 0; ii < inum; ii++) {
-    int i = ilist[ii];
-    int *jlist = firstneigh[i];
-    int jnum = numneigh[i];
-    if (jnum == 0) continue;
-    int *touch = firsttouch ? firsttouch[i] : nullptr;
-    double *stored = firstvalue ? firstvalue[i] : nullptr;
-    // The row's contact records (HISTORY doubles each): LAMMPS's own when they are kept,
-    // else a copy (zeros without history) thrown away after the call.
-    double *records = stored;
-    if (!stored || !keep_memory) {
-      row.assign((size_t) HISTORY * jnum, 0.0);
-      if (stored) std::copy(stored, stored + (size_t) HISTORY * jnum, row.begin());
-      records = row.data();
-    }
-    if (any_reshaped && std::binary_search(reshaped.begin(), reshaped.end(), tag[i])) {
-      for (int jj = 0; jj < jnum; jj++) reset_record(&records[HISTORY * jj]);
-    } else if (any_reshaped) {
-      for (int jj = 0; jj < jnum; jj++)
-        if (std::binary_search(reshaped.begin(), reshaped.end(), tag[jlist[jj] & NEIGHMASK]))
-          reset_record(&records[HISTORY * jj]);
-    }
-    if (row_out.size() < static_cast<size_t>(jnum)) {
-      row_out.resize(jnum);
-      row_at.resize(jnum);
-    }
-    int count = 0;
-    int status = fractum_kernel_pair_row(
-        &law, bodies.data(), shapes ? places.data() : nullptr, keys.data(),
-        travel_arr ? travel.data() : nullptr, nall, i, jlist, jnum, NEIGHMASK, records, HISTORY,
-        dt, update_history, shapes, touch && records == stored ? touch : nullptr, row_out.data(),
-        row_at.data(), &count);
-    if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "pair_row", status);
-    if (touch && records != stored)
-      for (int jj = 0; jj < jnum; jj++) {
-        int keep = 0;
-        for (int k = 0; k < HISTORY; k++) keep |= stored[HISTORY * jj + k] != 0.0;
-        touch[jj] = keep;
-      }
-    for (int c = 0; c < count; c++) {
-      const FractumContact &out = row_out[c];
-      const int j = jlist[row_at[c]] & NEIGHMASK;
-      const bool swap = tag[i] > tag[j];
-      const int a = swap ? j : i;
-      // Energies once per contact: by the rank that owns its lower-tag atom.
-      if (a < nlocal) sums.add_energy(out.energy, out.dissipated);
-      // One record per contact: the force on i, the torques on i and j; each owned atom of
-      // it gets a key (its partner's tag) pointing at the record's side.
-      const int n = static_cast<int>(touching.size());
-      FractumTouching &t = touching.emplace_back();
-      t.i = i;
-      t.j = j;
-      for (int k = 0; k < 3; k++) {
-        t.force[k] = swap ? -out.force[k] : out.force[k];
-        t.torque_i[k] = swap ? out.torque_b[k] : out.torque_a[k];
-        t.torque_j[k] = swap ? out.torque_a[k] : out.torque_b[k];
-        t.point[k] = out.point[k];
-      }
-      t.hertz_force = out.hertz_force;
-      t.radius = out.radius;
-      t.share_i = t.share_j = 0.0;
-      if (frequency_due) {
-        // Both bodies' loads once per contact; each atom adds its share in its partners' order.
-        int fs = fractum_kernel_frequency_shares(&law, &out, &bodies[i], &bodies[j], &t.share_i,
-                                                 &t.share_j);
-        if (fs != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "frequency_shares", fs);
-      }
-      sides.push_back(Side{i, tag[j], 2 * n});
-      if (j < nlocal) sides.push_back(Side{j, tag[i], 2 * n + 1});
-    }
-  }
-  // Each atom sums its contacts in the order of its partners' tags: the same bits on any rank
-  // count (the neighbour lists' order depends on the decomposition, and a sum's rounding on
-  // its order). Atoms in index order (a counting sort of the small keys), partners in tag
-  // order within each atom (a few contacts each: insertion sort).
-  first.assign(nlocal + 1, 0);
-  for (const Side &k : sides) first[k.atom + 1]++;
-  for (int i = 0; i < nlocal; i++) first[i + 1] += first[i];
-  order.resize(sides.size());
-  cursor.assign(first.begin(), first.end() - 1);
-  for (const Side &k : sides) order[cursor[k.atom]++] = k;
-  for (int i = 0; i < nlocal; i++)
-    for (int k = first[i] + 1; k < first[i + 1]; k++) {
-      const Side moving = order[k];
-      int m = k;
-      for (; m > first[i] && order[m - 1].partner > moving.partner; m--) order[m] = order[m - 1];
-      order[m] = moving;
-    }
-  codes.resize(order.size());
-  for (size_t k = 0; k < order.size(); k++) codes[k] = order[k].side;
+  // Every row of the list in one call: the contacts (their records as LAMMPS's history fix
+  // keeps them, where it keeps them), their energies and frequency shares, and each owned
+  // atom's sides in the order of its partners' tags (the same bits on any rank count: the
+  // lists' order depends on the decomposition, and a sum's rounding on its order).
+  FractumNeighbours rows{};
+  rows.inum = list->inum;
+  rows.ilist = list->ilist;
+  rows.numneigh = list->numneigh;
+  rows.firstneigh = list->firstneigh;
+  rows.index_mask = NEIGHMASK;
+  rows.firsttouch = history ? history->firstflag : nullptr;
+  rows.firstvalue = history ? history->firstvalue : nullptr;
+  rows.stride = HISTORY;
+  size_t candidates = 0;
+  for (int ii = 0; ii < list->inum; ii++) candidates += list->numneigh[list->ilist[ii]];
+  if (touching.size() < candidates) touching.resize(candidates);
+  if (codes.size() < 2 * candidates) codes.resize(2 * candidates);
+  size_t n_touching = 0, n_sides = 0;
+  double energy[2] = {0.0, 0.0};
+  int status = fractum_kernel_pair_list(
+      &law, bodies.data(), shapes ? places.data() : nullptr, keys.data(),
+      travel_arr ? travel.data() : nullptr, nall, nlocal, &rows, keep_memory ? 1 : 0,
+      reshaped_keys.data(), reshaped_keys.size(), update->dt,
+      update_history, shapes, frequency_due ? 1 : 0, touching.data(), candidates, &n_touching,
+      codes.data(), &n_sides, energy);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "pair_list", status);
+  sums.add_energy(energy[0], energy[1]);
   const bool loads = grain_arr && sums.loads_wanted();
-  int status = fractum_kernel_sum_contacts(
-      touching.data(), touching.size(), codes.data(), codes.size(), nlocal, f, torque, atom->x,
+  status = fractum_kernel_sum_contacts(
+      touching.data(), n_touching, codes.data(), n_sides, nlocal, f, torque, atom->x,
       loads ? grain_arr : nullptr, material.poisson, sums.threshold(),
       frequency_due ? sums.shares_data() : nullptr, loads ? sums.loads_data() : nullptr);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "sum_contacts", status);
@@ -336,9 +259,6 @@ double PairFractumGranular::memory_usage()
       sums.memory_usage() +
       (double) touching.capacity() * sizeof(FractumTouching) +
       (double) codes.capacity() * sizeof(int32_t) +
-      (double) (sides.capacity() + order.capacity()) * sizeof(Side) +
-      (double) (first.capacity() + cursor.capacity() + row_at.capacity()) * sizeof(int) +
-      (double) (keys.capacity()) * sizeof(int64_t) +
-      (double) (travel.capacity() + row.capacity()) * sizeof(double) +
-      (double) row_out.capacity() * sizeof(FractumContact);
+      (double) (keys.capacity() + reshaped_keys.capacity()) * sizeof(int64_t) +
+      (double) travel.capacity() * sizeof(double);
 }

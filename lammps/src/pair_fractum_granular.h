@@ -57,31 +57,18 @@ class PairFractumGranular : public Pair {
   std::vector<FractumBody> bodies;
   std::vector<FractumPlacement> places;
   /* The touching contacts of this evaluation (libfractum's FractumTouching: the force on i, the
-     torques on i and j, and what fracture and the step adaptation read of it), summed into
-     their atoms by one fractum_kernel_sum_contacts call. */
+     torques on i and j, and what fracture and the step adaptation read of it) and their sides in
+     summing order (2 n for atom i of touching[n], 2 n + 1 for atom j), as
+     fractum_kernel_pair_list gathers them over the whole neighbour list, summed into their atoms
+     by one fractum_kernel_sum_contacts call. Grown, never shrunk nor cleared: the kernel writes
+     what it counts. */
   std::vector<FractumTouching> touching;
-  /* What an owned atom sums: its partner's tag (the order of the sum) and which side of which
-     contact (2 n for atom i of touching[n], 2 n + 1 for atom j). Sorted instead of the contacts,
-     which are ten times larger. */
-  struct Side {
-    int atom;
-    tagint partner;
-    int side;
-  };
-  std::vector<Side> sides, order;
-  // The sides in summing order, as the kernel takes them (2 n + 1 for atom j of contact n).
   std::vector<int32_t> codes;
-  // Each atom's first slot in `order` and a cursor per atom (the counting sort).
-  std::vector<int> first, cursor;
-  /* Per evaluation: the bodies' tags and travels; per row: the kernel's touching contacts,
-     their candidates, and a scratch copy of the row's records. */
-  std::vector<int64_t> keys;
-  std::vector<double> travel, row;
-  std::vector<FractumContact> row_out;
-  std::vector<int> row_at;
+  // Per evaluation: the bodies' tags, the reshaped bodies' tags and the travels.
+  std::vector<int64_t> keys, reshaped_keys;
+  std::vector<double> travel;
   double maxrad = 0.0;
   void check_history();
-  static void reset_record(double *r);
 };
 
 }    // namespace LAMMPS_NS

@@ -496,21 +496,324 @@ pub extern "C" fn fractum_kernel_pair_row(
         let memory = slice_mut(memory, n * stride)?;
         let out = slice_mut(out, n)?;
         let at = slice_mut(at, n)?;
-        let mut kept = if kept.is_null() {
+        let kept = if kept.is_null() {
             None
         } else {
             Some(slice_mut(kept, n)?)
         };
         let k = consts(law);
-        let i = i as usize;
         let mut count = 0;
+        let row = Row {
+            law,
+            k: &k,
+            bodies,
+            places,
+            keys,
+            travel,
+            index_mask,
+            stride,
+            dt,
+            update: update != 0,
+            shapes: shapes != 0,
+        };
+        row.contacts(i as usize, partners, memory, kept, |jj, p| {
+            out[count] = contact_out(Some(p));
+            at[count] = jj as i32;
+            count += 1;
+        })?;
+        *n_out = count as i32;
+        Ok(())
+    })
+}
+
+/// Every row of a host's neighbour list `list` in one call: each row's contacts as
+/// `fractum_kernel_pair_row` computes them (the same bodies, placements, keys, travels and
+/// records), gathered for `fractum_kernel_sum_contacts`.
+///
+/// - `touching` (room for `capacity`, the list's candidates suffice) receives each touching
+///   contact in the rows' order, as its row's atom `i` sees it (force and torques swapped
+///   back where the partner was body A), with both atoms' shares of the frequency bound
+///   when `shares` is nonzero; `*n_touching` their count.
+/// - `sides` (room for `2 capacity`) receives the codes `fractum_kernel_sum_contacts`
+///   takes, ordered for its sums: the owned atoms (below `n_local`) in index order, each
+///   one's contacts in the order of its partners' keys (the same bits on any rank count);
+///   `*n_sides` their count.
+/// - `energy[0]` and `energy[1]` grow by the contacts' elastic energy and dissipation, each
+///   contact counted where its body A is owned.
+/// - Records: with `keep` nonzero each row's stored records are updated in place (and its
+///   kept flags set); with `keep` 0 they are computed on copies and left as they were, the
+///   kept flags set from the stored records. A record whose pair involves a key of
+///   `reshaped` (`n_reshaped` keys, sorted) starts afresh: its held Hertz radius and its
+///   reach (doubles 6 and 7) are cleared first.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub extern "C" fn fractum_kernel_pair_list(
+    law: *const FractumContactLaw,
+    bodies: *const FractumBody,
+    places: *const FractumPlacement,
+    keys: *const i64,
+    travel: *const f64,
+    n_bodies: i32,
+    n_local: i32,
+    list: *const FractumNeighbours,
+    keep: i32,
+    reshaped: *const i64,
+    n_reshaped: usize,
+    dt: f64,
+    update: i32,
+    shapes: i32,
+    shares: i32,
+    touching: *mut FractumTouching,
+    capacity: usize,
+    n_touching: *mut usize,
+    sides: *mut i32,
+    n_sides: *mut usize,
+    energy: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        let law = get(law)?;
+        let list = get(list)?;
+        let (n_touching, n_sides) = (get_mut(n_touching)?, get_mut(n_sides)?);
+        let energy = slice_mut(energy, 2)?;
+        *n_touching = 0;
+        *n_sides = 0;
+        input_if(n_bodies < 0 || n_local < 0 || n_local > n_bodies || list.inum < 0)?;
+        let (nb, nl) = (n_bodies as usize, n_local as usize);
+        let skip = !travel.is_null() && shapes != 0;
+        input_if(list.stride < 8)?;
+        let stride = list.stride as usize;
+        let bodies = slice_in(bodies, nb)?;
+        let keys = slice_in(keys, nb)?;
+        let places = if shapes != 0 {
+            Some(slice_in(places, nb)?)
+        } else {
+            None
+        };
+        let travel = if skip {
+            Some(slice_in(travel, nb)?)
+        } else {
+            None
+        };
+        let reshaped = slice_in(reshaped, n_reshaped)?;
+        let out = slice_mut(touching, capacity)?;
+        let codes = slice_mut(sides, 2 * capacity)?;
+        let inum = list.inum as usize;
+        let ilist = slice_in(list.ilist, inum)?;
+        // Rows are owned atoms: the tables are read below `n_local` only.
+        let numneigh = slice_in(list.numneigh, nl)?;
+        let firstneigh = slice_in(list.firstneigh, nl)?;
+        let history = !list.firstvalue.is_null();
+        let (firstvalue, firsttouch) = if history {
+            (
+                slice_in(list.firstvalue, nl)?,
+                slice_in(list.firsttouch, nl)?,
+            )
+        } else {
+            (&[][..], &[][..])
+        };
+        let k = consts(law);
+        let row = Row {
+            law,
+            k: &k,
+            bodies,
+            places,
+            keys,
+            travel,
+            index_mask: list.index_mask,
+            stride,
+            dt,
+            update: update != 0,
+            shapes: shapes != 0,
+        };
+        let was_reshaped = |key: i64| !reshaped.is_empty() && reshaped.binary_search(&key).is_ok();
+        // Each side: its atom, its partner's key and its code, in the rows' order.
+        let mut found: Vec<(u32, i64, i32)> = Vec::new();
+        let mut scratch: Vec<f64> = Vec::new();
+        let (mut elastic, mut dissipated) = (0.0, 0.0);
+        let mut count = 0usize;
+        for &i in ilist {
+            input_if(i < 0 || i as usize >= nl)?;
+            let i = i as usize;
+            let jnum = numneigh[i];
+            input_if(jnum < 0)?;
+            if jnum == 0 {
+                continue;
+            }
+            let n = jnum as usize;
+            let partners = slice_in(firstneigh[i], n)?;
+            let stored = if history {
+                Some(slice_mut(firstvalue[i], n * stride)?)
+            } else {
+                None
+            };
+            let touch = if history {
+                Some(slice_mut(firsttouch[i], n)?)
+            } else {
+                None
+            };
+            // The row's records: the stored ones when they are kept, else a copy (zeros
+            // without records) thrown away after the row.
+            let (records, kept) = match stored {
+                Some(st) if keep != 0 => (st, touch),
+                other => {
+                    scratch.clear();
+                    match &other {
+                        Some(st) => scratch.extend_from_slice(st),
+                        None => scratch.resize(n * stride, 0.0),
+                    }
+                    if let (Some(touch), Some(st)) = (touch, &other) {
+                        for (jj, t) in touch.iter_mut().enumerate() {
+                            *t = i32::from(
+                                st[jj * stride..(jj + 1) * stride].iter().any(|v| *v != 0.0),
+                            );
+                        }
+                    }
+                    (&mut scratch[..], None)
+                }
+            };
+            if !reshaped.is_empty() {
+                let all = was_reshaped(keys[i]);
+                for (jj, &p) in partners.iter().enumerate() {
+                    let j = (p & list.index_mask) as usize;
+                    input_if(j >= nb)?;
+                    if all || was_reshaped(keys[j]) {
+                        records[jj * stride + 6] = 0.0;
+                        records[jj * stride + 7] = 0.0;
+                    }
+                }
+            }
+            let mut failed = Ok(());
+            row.contacts(i, partners, records, kept, |jj, p| {
+                if failed.is_err() {
+                    return;
+                }
+                let j = (partners[jj] & list.index_mask) as usize;
+                let swap = keys[i] > keys[j];
+                let a = if swap { j } else { i };
+                if a < nl {
+                    elastic += p.c.energy;
+                    dissipated += p.c.dissipated;
+                }
+                if count >= out.len() {
+                    failed = Err(FRACTUM_ERR_INPUT);
+                    return;
+                }
+                let c = contact_out(Some(p));
+                let neg = |v: [f64; 3]| v.map(|x| -x);
+                let mut t = FractumTouching {
+                    i: i as i32,
+                    j: j as i32,
+                    force: if swap { neg(c.force) } else { c.force },
+                    torque_i: if swap { c.torque_b } else { c.torque_a },
+                    torque_j: if swap { c.torque_a } else { c.torque_b },
+                    point: c.point,
+                    hertz_force: c.hertz_force,
+                    radius: c.radius,
+                    share_i: 0.0,
+                    share_j: 0.0,
+                };
+                if shares != 0 {
+                    // Both bodies' loads once per contact, as fractum_kernel_frequency_shares.
+                    match (
+                        body_load(law, &c, &bodies[i]),
+                        body_load(law, &c, &bodies[j]),
+                    ) {
+                        (Ok(li), Ok(lj)) => {
+                            t.share_i = fractum::contact::records::frequency_share(li, Some(lj));
+                            t.share_j = fractum::contact::records::frequency_share(lj, Some(li));
+                        }
+                        (Err(e), _) | (_, Err(e)) => {
+                            failed = Err(e);
+                            return;
+                        }
+                    }
+                }
+                out[count] = t;
+                found.push((i as u32, keys[j], 2 * count as i32));
+                if j < nl {
+                    found.push((j as u32, keys[i], 2 * count as i32 + 1));
+                }
+                count += 1;
+            })?;
+            failed?;
+        }
+        // Each atom's sides in the order of its partners' keys: atoms by a counting sort
+        // (stable) into `codes` with their keys beside them, then a stable insertion sort
+        // within each atom (a few contacts each).
+        let mut first = vec![0usize; nl + 1];
+        for s in &found {
+            first[s.0 as usize + 1] += 1;
+        }
+        for a in 0..nl {
+            first[a + 1] += first[a];
+        }
+        let mut cursor = first[..nl].to_vec();
+        let codes = &mut codes[..found.len()];
+        let mut key = vec![0i64; found.len()];
+        for s in &found {
+            let at = &mut cursor[s.0 as usize];
+            codes[*at] = s.2;
+            key[*at] = s.1;
+            *at += 1;
+        }
+        for a in 0..nl {
+            for k in first[a] + 1..first[a + 1] {
+                let (moving, moving_key) = (codes[k], key[k]);
+                let mut m = k;
+                while m > first[a] && key[m - 1] > moving_key {
+                    codes[m] = codes[m - 1];
+                    key[m] = key[m - 1];
+                    m -= 1;
+                }
+                codes[m] = moving;
+                key[m] = moving_key;
+            }
+        }
+        energy[0] += elastic;
+        energy[1] += dissipated;
+        *n_touching = count;
+        *n_sides = found.len();
+        Ok(())
+    })
+}
+
+/// What every row of an evaluation shares: the law, the bodies with their placements,
+/// keys and travels, and how a row's records are laid out.
+struct Row<'a> {
+    law: &'a FractumContactLaw,
+    k: &'a KernelConsts,
+    bodies: &'a [FractumBody],
+    places: Option<&'a [FractumPlacement]>,
+    keys: &'a [i64],
+    travel: Option<&'a [f64]>,
+    index_mask: i32,
+    stride: usize,
+    dt: f64,
+    update: bool,
+    shapes: bool,
+}
+
+impl Row<'_> {
+    /// Body `i`'s contacts with each of `partners` (`& index_mask`), their records in
+    /// `memory` (`stride` doubles each, updated), `kept[jj]` set where a record holds
+    /// anything; `touching(jj, contact)` for each pair that touches, in the partners' order.
+    /// Each pair is computed with the body of the lower key as A.
+    fn contacts(
+        &self,
+        i: usize,
+        partners: &[i32],
+        memory: &mut [f64],
+        mut kept: Option<&mut [i32]>,
+        mut touching: impl FnMut(usize, PairOut),
+    ) -> KResult {
+        let (bodies, keys, stride) = (self.bodies, self.keys, self.stride);
         for (jj, &p) in partners.iter().enumerate() {
-            let j = (p & index_mask) as usize;
-            input_if(j >= nb)?;
+            let j = (p & self.index_mask) as usize;
+            input_if(j >= bodies.len())?;
             let (a, b) = if keys[i] > keys[j] { (j, i) } else { (i, j) };
             let record = &mut memory[jj * stride..(jj + 1) * stride];
             let (ba, bb) = (&bodies[a], &bodies[b]);
-            let touched = match travel {
+            let touched = match self.travel {
                 Some(t) if skips(record[7], t[a], t[b]) => None,
                 _ => {
                     let mut hist = Vec3::new(record[0], record[1], record[2]);
@@ -518,24 +821,24 @@ pub extern "C" fn fractum_kernel_pair_row(
                         normal: Vec3::new(record[3], record[4], record[5]),
                         radius: record[6],
                     };
-                    let place = |x: usize| places.map(|ps| &ps[x]);
+                    let place = |x: usize| self.places.map(|ps| &ps[x]);
                     let result = pair_of(
-                        law,
-                        &k,
+                        self.law,
+                        self.k,
                         ba,
                         place(a),
                         bb,
                         place(b),
                         &mut hist,
                         &mut m,
-                        dt,
-                        update != 0,
-                        shapes != 0,
+                        self.dt,
+                        self.update,
+                        self.shapes,
                     )?;
                     record[..3].copy_from_slice(hist.as_slice());
                     record[3..6].copy_from_slice(m.normal.as_slice());
                     record[6] = m.radius;
-                    if let Some(t) = travel {
+                    if let Some(t) = self.travel {
                         record[7] = match result {
                             Ok(_) => 0.0,
                             Err(gap) => pair_reach(t[a], t[b], gap, ba.radius, bb.radius),
@@ -548,14 +851,11 @@ pub extern "C" fn fractum_kernel_pair_row(
                 kept[jj] = i32::from(record.iter().any(|v| *v != 0.0));
             }
             if let Some(p) = touched {
-                out[count] = contact_out(Some(p));
-                at[count] = jj as i32;
-                count += 1;
+                touching(jj, p);
             }
         }
-        *n_out = count as i32;
         Ok(())
-    })
+    }
 }
 
 #[allow(clippy::too_many_arguments)]

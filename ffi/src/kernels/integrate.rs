@@ -88,7 +88,7 @@ pub extern "C" fn fractum_kernel_frequency_shares(
 
 /// Contact `c`'s load on `body` (`fractum::contact::records::contact_load`), its mass and
 /// moments checked positive.
-fn body_load(
+pub(super) fn body_load(
     law: &FractumContactLaw,
     c: &FractumContact,
     body: &FractumBody,

@@ -284,6 +284,24 @@ pub struct FractumAtomRows {
     pub travel: *const *mut f64,
 }
 
+/// A host's neighbour list as LAMMPS keeps it (`NeighList` with the history fix's pages):
+/// row `ii` of `inum` is atom `ilist[ii]`, its `numneigh[i]` candidates at `firstneigh[i]`
+/// (each `& index_mask` a partner's index), and, where the host keeps the pairs' records,
+/// each candidate's record of `stride` doubles at `firstvalue[i]` and its kept flag at
+/// `firsttouch[i]` (both null: no records kept; `stride` still sets the records' layout).
+#[repr(C)]
+#[derive(Debug, Clone, Copy)]
+pub struct FractumNeighbours {
+    pub inum: i32,
+    pub ilist: *const i32,
+    pub numneigh: *const i32,
+    pub firstneigh: *const *const i32,
+    pub index_mask: i32,
+    pub firsttouch: *const *mut i32,
+    pub firstvalue: *const *mut f64,
+    pub stride: i32,
+}
+
 /// One touching pair contact of a host's evaluation, as `fractum_kernel_sum_contacts` sums
 /// it into its two atoms: the force on atom `i` (the opposite on `j`), each atom's torque,
 /// and what fracture and the step adaptation read of it.

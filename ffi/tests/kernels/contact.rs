@@ -528,3 +528,349 @@ fn placement_rotation_is_row_major_by_hand() {
     near(&[p.rot[1], p.rot[3]], &[0.0, 1.0]);
     near(&p.origin, &[1.0, 2.0 - 0.0375, 3.0]);
 }
+
+/// The reference for `fractum_kernel_pair_list`: the plugin's pair as it was before the list
+/// kernel, one `fractum_kernel_pair_row` call per row and the gathering around it (records
+/// copied where they are not kept, reshaped records reset, the force and torques swapped back
+/// to the row's atom, energies where body A is owned, both shares per contact, each owned
+/// atom's sides ordered by its partners' keys).
+#[allow(clippy::too_many_arguments)]
+fn pair_list_by_rows(
+    law: &FractumContactLaw,
+    fbs: &[FractumBody],
+    places: &[FractumPlacement],
+    keys: &[i64],
+    travel: &[f64],
+    n_local: usize,
+    rows: &[Vec<i32>],
+    mask: i32,
+    records: &mut [Vec<f64>],
+    kept: &mut [Vec<i32>],
+    keep: bool,
+    reshaped: &[i64],
+    dt: f64,
+    update: i32,
+    poly: bool,
+) -> (Vec<FractumTouching>, Vec<i32>, [f64; 2]) {
+    let mut touching = Vec::new();
+    let mut sides: Vec<(usize, i64, i32)> = Vec::new();
+    let mut energy = [0.0, 0.0];
+    for (i, partners) in rows.iter().enumerate() {
+        let m = partners.len();
+        if m == 0 {
+            continue;
+        }
+        let mut copy = records[i].clone();
+        let row = if keep { &mut records[i] } else { &mut copy };
+        for (jj, &p) in partners.iter().enumerate() {
+            let j = (p & mask) as usize;
+            if reshaped.contains(&keys[i]) || reshaped.contains(&keys[j]) {
+                row[8 * jj + 6] = 0.0;
+                row[8 * jj + 7] = 0.0;
+            }
+        }
+        let mut out = vec![FractumContact::default(); m];
+        let mut at = vec![-1; m];
+        let mut count = -1;
+        let s = fractum_kernel_pair_row(
+            law,
+            fbs.as_ptr(),
+            if poly { places.as_ptr() } else { null() },
+            keys.as_ptr(),
+            if poly { travel.as_ptr() } else { null() },
+            fbs.len() as i32,
+            i as i32,
+            partners.as_ptr(),
+            m as i32,
+            mask,
+            row.as_mut_ptr(),
+            8,
+            dt,
+            update,
+            i32::from(poly),
+            if keep {
+                kept[i].as_mut_ptr()
+            } else {
+                null_mut()
+            },
+            out.as_mut_ptr(),
+            at.as_mut_ptr(),
+            &mut count,
+        );
+        assert_eq!(s, FRACTUM_OK);
+        if !keep {
+            for jj in 0..m {
+                kept[i][jj] = i32::from(records[i][8 * jj..8 * jj + 8].iter().any(|v| *v != 0.0));
+            }
+        }
+        for c in 0..count as usize {
+            let o = &out[c];
+            let j = (partners[at[c] as usize] & mask) as usize;
+            let swap = keys[i] > keys[j];
+            if (if swap { j } else { i }) < n_local {
+                energy[0] += o.energy;
+                energy[1] += o.dissipated;
+            }
+            let (mut si, mut sj) = (0.0, 0.0);
+            let s = fractum_kernel_frequency_shares(law, o, &fbs[i], &fbs[j], &mut si, &mut sj);
+            assert_eq!(s, FRACTUM_OK);
+            let n = touching.len() as i32;
+            touching.push(FractumTouching {
+                i: i as i32,
+                j: j as i32,
+                force: if swap { o.force.map(|v| -v) } else { o.force },
+                torque_i: if swap { o.torque_b } else { o.torque_a },
+                torque_j: if swap { o.torque_a } else { o.torque_b },
+                point: o.point,
+                hertz_force: o.hertz_force,
+                radius: o.radius,
+                share_i: si,
+                share_j: sj,
+            });
+            sides.push((i, keys[j], 2 * n));
+            if j < n_local {
+                sides.push((j, keys[i], 2 * n + 1));
+            }
+        }
+    }
+    // Stable: each atom's sides in the order of its partners' keys, ties as found.
+    sides.sort_by_key(|s| (s.0, s.1));
+    (touching, sides.iter().map(|s| s.2).collect(), energy)
+}
+
+/// `fractum_kernel_pair_list` over a whole half neighbour list (owned atoms with ghost
+/// partners, flag bits the mask removes, keys out of index order) gives the row-by-row path's
+/// bits, step after step: the touching contacts, the sides in summing order, the energies,
+/// the records and kept flags, with records kept and (at some steps) computed on copies, and
+/// with reshaped bodies' records starting afresh; and it refuses a list larger than its room.
+#[test]
+fn pair_list_gives_the_row_kernels_bits() {
+    let mut d = Draw::new(23);
+    let mut touching_seen = 0usize;
+    for &(damp, fric, poly) in &SWITCHES {
+        let (law, _) = laws(damp, fric, 0.4);
+        let (n, n_local) = (14usize, 10usize);
+        let mut bodies: Vec<Body> = (0..n).map(|k| random_body(&mut d, k % 3 == 0)).collect();
+        for b in &mut bodies {
+            b.pos *= 1.6;
+        }
+        let keys: Vec<i64> = (0..n as i64).map(|k| (5 * k + 2) % n as i64).collect();
+        let mask = (1 << 29) - 1;
+        // Owned rows with their later partners, ghosts included; the last owned row empty.
+        let rows: Vec<Vec<i32>> = (0..n_local)
+            .map(|i| {
+                if i == n_local - 1 {
+                    return Vec::new();
+                }
+                (i + 1..n)
+                    .map(|j| j as i32 | ((j as i32 & 1) << 29))
+                    .collect()
+            })
+            .collect();
+        let mut ref_records: Vec<Vec<f64>> = rows.iter().map(|r| vec![0.0; 8 * r.len()]).collect();
+        let mut ref_kept: Vec<Vec<i32>> = rows.iter().map(|r| vec![0; r.len()]).collect();
+        let (mut records, mut kept) = (ref_records.clone(), ref_kept.clone());
+        let mut travel = vec![0.0; n];
+        let (h, dt) = (2e-5, 2e-8);
+        for step in 0..30 {
+            let update = i32::from(step > 0);
+            let keep = step % 7 != 3;
+            let reshaped: Vec<i64> = if step % 5 == 4 {
+                vec![keys[2], keys[11]]
+            } else {
+                vec![]
+            };
+            let mut sorted = reshaped.clone();
+            sorted.sort();
+            let fbs: Vec<FractumBody> = bodies.iter().map(c_body).collect();
+            let places: Vec<FractumPlacement> = fbs
+                .iter()
+                .map(|b| {
+                    let mut p = FractumPlacement::default();
+                    assert_eq!(fractum_kernel_placement(b, &mut p), FRACTUM_OK);
+                    p
+                })
+                .collect();
+            let (want, want_sides, want_energy) = pair_list_by_rows(
+                &law,
+                &fbs,
+                &places,
+                &keys,
+                &travel,
+                n_local,
+                &rows,
+                mask,
+                &mut ref_records,
+                &mut ref_kept,
+                keep,
+                &sorted,
+                dt,
+                update,
+                poly,
+            );
+            touching_seen += want.len();
+
+            let ilist: Vec<i32> = (0..n_local as i32).collect();
+            let numneigh: Vec<i32> = rows.iter().map(|r| r.len() as i32).collect();
+            let firstneigh: Vec<*const i32> = rows.iter().map(|r| r.as_ptr()).collect();
+            let firstvalue: Vec<*mut f64> = records.iter_mut().map(|r| r.as_mut_ptr()).collect();
+            let firsttouch: Vec<*mut i32> = kept.iter_mut().map(|r| r.as_mut_ptr()).collect();
+            let list = FractumNeighbours {
+                inum: n_local as i32,
+                ilist: ilist.as_ptr(),
+                numneigh: numneigh.as_ptr(),
+                firstneigh: firstneigh.as_ptr(),
+                index_mask: mask,
+                firsttouch: firsttouch.as_ptr(),
+                firstvalue: firstvalue.as_ptr(),
+                stride: 8,
+            };
+            let capacity: usize = rows.iter().map(|r| r.len()).sum();
+            let mut got = vec![FractumTouching::default(); capacity];
+            let mut codes = vec![-1; 2 * capacity];
+            let (mut n_touching, mut n_sides) = (0usize, 0usize);
+            let mut energy = [0.0, 0.0];
+            let call = |room: usize,
+                        got: &mut Vec<FractumTouching>,
+                        codes: &mut Vec<i32>,
+                        n_touching: &mut usize,
+                        n_sides: &mut usize,
+                        energy: &mut [f64; 2]| {
+                fractum_kernel_pair_list(
+                    &law,
+                    fbs.as_ptr(),
+                    if poly { places.as_ptr() } else { null() },
+                    keys.as_ptr(),
+                    if poly { travel.as_ptr() } else { null() },
+                    n as i32,
+                    n_local as i32,
+                    &list,
+                    i32::from(keep),
+                    sorted.as_ptr(),
+                    sorted.len(),
+                    dt,
+                    update,
+                    i32::from(poly),
+                    1,
+                    got.as_mut_ptr(),
+                    room,
+                    n_touching,
+                    codes.as_mut_ptr(),
+                    n_sides,
+                    energy.as_mut_ptr(),
+                )
+            };
+            if want.len() > 1 && keep {
+                // Too little room: refused (the records it reached may have moved on, so the
+                // refusal is checked on copies and the real call made on the originals).
+                let saved = (records.clone(), kept.clone());
+                let (mut nt, mut ns, mut e) = (0, 0, [0.0, 0.0]);
+                let s = call(
+                    want.len() - 1,
+                    &mut got,
+                    &mut codes,
+                    &mut nt,
+                    &mut ns,
+                    &mut e,
+                );
+                assert_eq!(s, FRACTUM_ERR_INPUT);
+                for (r, s) in records.iter_mut().zip(&saved.0) {
+                    r.copy_from_slice(s);
+                }
+                for (k, s) in kept.iter_mut().zip(&saved.1) {
+                    k.copy_from_slice(s);
+                }
+            }
+            let s = call(
+                capacity,
+                &mut got,
+                &mut codes,
+                &mut n_touching,
+                &mut n_sides,
+                &mut energy,
+            );
+            assert_eq!(s, FRACTUM_OK);
+            assert_eq!(n_touching, want.len());
+            assert_eq!(&got[..n_touching], &want[..]);
+            for (g, w) in got.iter().zip(&want) {
+                assert_eq!(bits(&g.force), bits(&w.force));
+                assert_eq!(g.share_i.to_bits(), w.share_i.to_bits());
+            }
+            assert_eq!(&codes[..n_sides], &want_sides[..]);
+            assert_eq!(bits(&energy), bits(&want_energy));
+            assert_eq!(records, ref_records);
+            assert_eq!(kept, ref_kept);
+            for (b, t) in bodies.iter_mut().zip(&mut travel) {
+                let before = c_body(b);
+                b.pos += b.vel * h;
+                b.orientation = UnitQuaternion::from_scaled_axis(b.omega * h) * b.orientation;
+                assert_eq!(fractum_kernel_travel(&before, &c_body(b), t), FRACTUM_OK);
+            }
+        }
+    }
+    assert!(touching_seen > 300, "touching {touching_seen}");
+}
+
+/// `fractum_kernel_pair_list` refuses a null law or list, more owned atoms than bodies, a
+/// record shorter than the skip's, and a row or partner out of range, before any contact.
+#[test]
+fn pair_list_refuses_what_it_cannot_read() {
+    let mut d = Draw::new(29);
+    let (law, _) = laws(true, true, 0.4);
+    let fbs: Vec<FractumBody> = (0..3).map(|_| c_body(&random_body(&mut d, true))).collect();
+    let keys = [0i64, 1, 2];
+    let partners = [1, 2];
+    let numneigh = [2, 0, 0];
+    let firstneigh = [partners.as_ptr(), null(), null()];
+    let mut ilist = [0];
+    let mut list = FractumNeighbours {
+        inum: 1,
+        ilist: ilist.as_ptr(),
+        numneigh: numneigh.as_ptr(),
+        firstneigh: firstneigh.as_ptr(),
+        index_mask: -1,
+        firsttouch: null(),
+        firstvalue: null(),
+        stride: 8,
+    };
+    let run = |law: *const FractumContactLaw, list: *const FractumNeighbours, n_local: i32| {
+        let mut out = [FractumTouching::default(); 2];
+        let mut codes = [0; 4];
+        let (mut nt, mut ns, mut e) = (0usize, 0usize, [0.0; 2]);
+        fractum_kernel_pair_list(
+            law,
+            fbs.as_ptr(),
+            null(),
+            keys.as_ptr(),
+            null(),
+            3,
+            n_local,
+            list,
+            1,
+            null(),
+            0,
+            1e-8,
+            1,
+            0,
+            0,
+            out.as_mut_ptr(),
+            2,
+            &mut nt,
+            codes.as_mut_ptr(),
+            &mut ns,
+            e.as_mut_ptr(),
+        )
+    };
+    assert_eq!(run(&law, &list, 3), FRACTUM_OK);
+    assert_eq!(run(null(), &list, 3), FRACTUM_ERR_NULL);
+    assert_eq!(run(&law, null(), 3), FRACTUM_ERR_NULL);
+    assert_eq!(run(&law, &list, 4), FRACTUM_ERR_INPUT);
+    list.stride = 7;
+    assert_eq!(run(&law, &list, 3), FRACTUM_ERR_INPUT);
+    list.stride = 8;
+    // Row 0 is not owned when no atom is, nor row 5 of three bodies.
+    assert_eq!(run(&law, &list, 0), FRACTUM_ERR_INPUT);
+    ilist[0] = 5;
+    list.ilist = ilist.as_ptr();
+    assert_eq!(run(&law, &list, 3), FRACTUM_ERR_INPUT);
+}
