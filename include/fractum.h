@@ -710,6 +710,24 @@ enum FractumStatus fractum_kernel_wall(const struct FractumContactLaw *law,
                                        int32_t shapes,
                                        struct FractumContact *out);
 
+// The contact of body `a` with a sleeve: the fixed, rigid circular cylinder of inner radius
+// `radius` (m, > 0) whose axis runs along z through `centre` (3 doubles, m; its z is not
+// read), as Fractum's contact effect computes it (`fractum::contact::pair::sleeve_contact`:
+// with `shapes` nonzero a poly-ellipsoid's farthest point from the axis, else the sphere's
+// closed form; the Hertz radius of a convex body in a concave cylinder), with the candidate's
+// tangential displacement `memory->hist` (m) and held Hertz radius `memory->radius` (m;
+// `memory->normal` is not used) over the step `dt` (s). `out->normal` points towards the
+// axis; the sleeve gets the opposite force; `out->torque_b` is 0.
+enum FractumStatus fractum_kernel_sleeve(const struct FractumContactLaw *law,
+                                         const struct FractumBody *a,
+                                         const double *centre,
+                                         double radius,
+                                         struct FractumPairMemory *memory,
+                                         double dt,
+                                         int32_t update,
+                                         int32_t shapes,
+                                         struct FractumContact *out);
+
 // A poly-ellipsoid of semi-axes `semi` (6 doubles, a+ a- b+ b- c+ c-, m; finite and > 0,
 // else FRACTUM_ERR_INPUT) and mass `mass` (kg) at rest, its centroid at `centroid` (3
 // doubles, m) and its shape frame turned by `shape_quat` (4 doubles, shape to world, w x y z),

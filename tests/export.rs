@@ -230,3 +230,36 @@ fn plain_exports_say_that_they_leave_the_fracture_effects_out() {
     assert!(o.status.success());
     assert!(!String::from_utf8_lossy(&o.stderr).contains("not exported"));
 }
+
+#[test]
+fn plain_exports_of_a_sleeve_are_refused_naming_the_plugin_which_writes_it() {
+    let sleeve = [
+        "--set",
+        "walls.sleeve=true",
+        "--set",
+        "sample.box=[3e-3,3e-3,3e-3]",
+        "--set",
+        "sample.solid_fraction=0.45",
+    ];
+    for format in ["lammps", "yade"] {
+        let (o, dir) = export_shipped(format, "shpb_sand.toml", &sleeve);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{format}: {stderr}");
+        assert_eq!(stderr.trim().lines().count(), 1, "{stderr}");
+        assert!(
+            stderr.contains("walls.sleeve") && stderr.contains("--plugin"),
+            "{stderr}"
+        );
+        assert!(!dir.path().join("out").exists(), "nothing written");
+    }
+    let mut plugin = sleeve.to_vec();
+    plugin.extend(["--plugin", "--quiet"]);
+    let (o, dir) = export_shipped("lammps", "shpb_sand.toml", &plugin);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let script = std::fs::read_to_string(dir.path().join("out/in.fractum")).unwrap();
+    // The sleeve inscribed in the 3 mm box's x-y section, the side faces left out.
+    assert!(
+        script.contains(" sleeve 1.5") && !script.contains(" xlo ") && script.contains(" zhi "),
+        "{script}"
+    );
+}

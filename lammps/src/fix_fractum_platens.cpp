@@ -12,6 +12,8 @@
 #include "utils.h"
 #include "variable.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 
 using namespace LAMMPS_NS;
@@ -29,8 +31,8 @@ static int face_index(const char *name)
 
 FixFractumPlatens::FixFractumPlatens(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
-  const char *usage = "FACE POS [FACE POS ...] [vel FACE SPEED|v_name ...] [friction MU] with "
-                      "FACE one of xlo xhi ylo yhi zlo zhi";
+  const char *usage = "FACE POS [FACE POS ...] [vel FACE SPEED|v_name ...] [friction MU] "
+                      "[sleeve CX CY R [sleeve_friction MU]] with FACE one of xlo xhi ylo yhi zlo zhi";
   int iarg = 3;
   while (iarg < narg) {
     std::string key = arg[iarg];
@@ -60,9 +62,35 @@ FixFractumPlatens::FixFractumPlatens(LAMMPS *lmp, int narg, char **arg) : Fix(lm
       if (!(wall_friction >= 0.0))
         error->all(FLERR, "{}: friction = {} must be >= 0", STYLE, wall_friction);
       iarg += 2;
+    } else if (key == "sleeve") {
+      if (iarg + 3 >= narg)
+        error->all(FLERR, "{}: sleeve needs its axis's x and y and its radius (m): {}", STYLE, usage);
+      sleeve = true;
+      sleeve_centre[0] = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      sleeve_centre[1] = utils::numeric(FLERR, arg[iarg + 2], false, lmp);
+      sleeve_radius = utils::numeric(FLERR, arg[iarg + 3], false, lmp);
+      if (!(sleeve_radius > 0.0) || !std::isfinite(sleeve_radius))
+        error->all(FLERR, "{}: sleeve radius = {} must be > 0 (m)", STYLE, sleeve_radius);
+      iarg += 4;
+    } else if (key == "sleeve_friction") {
+      if (iarg + 1 >= narg) error->all(FLERR, "{}: sleeve_friction needs a value", STYLE);
+      sleeve_friction = utils::numeric(FLERR, arg[iarg + 1], false, lmp);
+      if (!(sleeve_friction >= 0.0))
+        error->all(FLERR, "{}: sleeve_friction = {} must be >= 0", STYLE, sleeve_friction);
+      iarg += 2;
     } else {
       error->all(FLERR, "{}: unknown argument {}; allowed: {}", STYLE, key, usage);
     }
+  }
+  if (sleeve_friction >= 0.0 && !sleeve)
+    error->all(FLERR, "{}: sleeve_friction applies with a sleeve only (sleeve CX CY R)", STYLE);
+  if (sleeve) {
+    for (int k = 0; k < 4; k++)
+      if (active[k])
+        error->all(FLERR, "{}: the sleeve stands in place of the side faces: leave out {}", STYLE,
+                   FACE_NAMES[k]);
+    if (!active[4] || !active[5])
+      error->all(FLERR, "{}: the sleeve needs the faces zlo and zhi, which close it", STYLE);
   }
   bool any = false;
   for (int k = 0; k < FACES; k++) any |= active[k];
@@ -77,7 +105,7 @@ FixFractumPlatens::FixFractumPlatens(LAMMPS *lmp, int narg, char **arg) : Fix(lm
     if (!active[k] && (speed[k] != 0.0 || !speed_var[k].empty()))
       error->all(FLERR, "{}: vel {} names a face that is not defined", STYLE, FACE_NAMES[k]);
   vector_flag = 1;
-  size_vector = 3 * FACES;
+  size_vector = 3 * FACES + 3 + SLICES;
   global_freq = 1;
   extvector = 0;
   restart_global = 1;
@@ -100,10 +128,17 @@ void FixFractumPlatens::init()
                             wall_friction >= 0 ? wall_friction
                                                : (material->friction >= 0 ? material->friction : 0.0));
   poisson = material->poisson;
+  if (sleeve)
+    sleeve_law = fractum_contact_law(lmp, STYLE, *material,
+                                     sleeve_friction >= 0 ? sleeve_friction
+                                     : wall_friction >= 0 ? wall_friction
+                                     : (material->friction >= 0 ? material->friction : 0.0));
   if ((law.friction || shapes))
-    fractum_array(lmp, STYLE, "fr_walls", 6 * WALL_SLOT,
-                  "declare `fix ID all property/atom d2_fr_walls 42` (the faces' contact "
-                  "histories) before read_data");
+    fractum_array(lmp, STYLE, "fr_walls", (FACES + (sleeve ? 1 : 0)) * WALL_SLOT,
+                  sleeve ? "declare `fix ID all property/atom d2_fr_walls 49` (the faces' and "
+                           "the sleeve's contact histories) before read_data"
+                         : "declare `fix ID all property/atom d2_fr_walls 42` (the faces' contact "
+                           "histories) before read_data");
   for (int k = 0; k < FACES; k++)
     if (!speed_var[k].empty()) {
       int v = input->variable->find(speed_var[k].c_str());
@@ -202,8 +237,65 @@ void FixFractumPlatens::post_force(int)
         sums->add_load(lmp, STYLE, i, x[i], out.force, out.point, out.hertz_force, out.radius,
                        poisson, grain[i][0]);
     }
+    // The sleeve after the faces, as Fractum adds its walls' contacts.
+    if (sleeve && sleeve_near(i, walls)) {
+      if (!placed) fractum_body(atom, shape, quat, inertia, i, b);
+      sleeve_contact(i, walls, b, frequency_due, keep_memory, update_history, grain);
+    }
   }
   reduced_at = -1;
+}
+
+/* Whether atom i's bounding sphere reaches the sleeve (by more than round-off) or its memory
+   holds a contact: else the kernel would find no contact and change nothing. */
+bool FixFractumPlatens::sleeve_near(int i, double **walls) const
+{
+  const double dx = atom->x[i][0] - sleeve_centre[0], dy = atom->x[i][1] - sleeve_centre[1];
+  const double clear = sleeve_radius - std::sqrt(dx * dx + dy * dy);
+  if (clear < atom->radius[i] * (1.0 + 1e-9)) return true;
+  const auto *stored =
+      walls ? reinterpret_cast<const FractumPairMemory *>(&walls[i][WALL_SLOT * FACES]) : nullptr;
+  return stored &&
+      (stored->hist[0] != 0.0 || stored->hist[1] != 0.0 || stored->hist[2] != 0.0 ||
+       stored->radius != 0.0);
+}
+
+/* Atom i's contact with the sleeve (b its body): its force, torque, energy, frequency share and
+   grain load as a face's, and the sleeve's sums. */
+void FixFractumPlatens::sleeve_contact(int i, double **walls, const FractumBody &b,
+                                       bool frequency_due, bool keep_memory, int update_history,
+                                       double **grain)
+{
+  double **x = atom->x;
+  FractumPairMemory *stored =
+      walls ? reinterpret_cast<FractumPairMemory *>(&walls[i][WALL_SLOT * FACES]) : nullptr;
+  FractumPairMemory scratch;
+  FractumContact out;
+  FractumPairMemory *mem = fractum_memory(stored, keep_memory, scratch);
+  int status = fractum_kernel_sleeve(&sleeve_law, &b, sleeve_centre, sleeve_radius, mem,
+                                     update->dt, update_history, shapes, &out);
+  if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "sleeve", status);
+  if (!out.touching) return;
+  for (int k = 0; k < 3; k++) {
+    atom->f[i][k] += out.force[k];
+    atom->torque[i][k] += out.torque_a[k];
+  }
+  const double load =
+      out.force[0] * out.normal[0] + out.force[1] * out.normal[1] + out.force[2] * out.normal[2];
+  // The slices of the span between the two z faces (the bars' faces); a contact point beyond
+  // either face counts in the end slice.
+  const double z0 = point[4][2], height = point[5][2] - point[4][2];
+  double slice = std::floor((out.point[2] - z0) / height * SLICES);
+  int at = std::isnan(slice) ? 0 : static_cast<int>(std::min(std::max(slice, 0.0), SLICES - 1.0));
+  local[2 * FACES] += load;
+  local[2 * FACES + 1] -= out.force[2];
+  local[2 * FACES + 2] += 1.0;
+  local[2 * FACES + 3 + at] += load;
+  sums->add_energy(out.energy, out.dissipated);
+  if (frequency_due) sums->add_share(lmp, STYLE, sleeve_law, i, out, b, nullptr);
+  if (grain && grain[i][3] == 0.0)
+    sums->add_load(lmp, STYLE, i, x[i], out.force, out.point, out.hertz_force, out.radius, poisson,
+                   grain[i][0]);
 }
 
 /* The atoms near the faces are listed again when LAMMPS rebuilt its neighbour lists in this
@@ -251,6 +343,17 @@ void FixFractumPlatens::near_atoms(double **walls)
         break;
       }
     }
+    if (sleeve && (near.empty() || near.back() != i)) {
+      const double dx = x[i][0] - sleeve_centre[0], dy = x[i][1] - sleeve_centre[1];
+      const double clear = sleeve_radius - std::sqrt(dx * dx + dy * dy);
+      const auto *stored = walls ? reinterpret_cast<const FractumPairMemory *>(
+                                       &walls[i][WALL_SLOT * FACES])
+                                 : nullptr;
+      const bool remembers = stored &&
+          (stored->hist[0] != 0.0 || stored->hist[1] != 0.0 || stored->hist[2] != 0.0 ||
+           stored->radius != 0.0);
+      if (clear < radius[i] + reach || remembers) near.push_back(i);
+    }
   }
   for (int w = 0; w < FACES; w++)
     for (int d = 0; d < 3; d++) near_point[w][d] = point[w][d];
@@ -260,7 +363,7 @@ void FixFractumPlatens::near_atoms(double **walls)
 double FixFractumPlatens::compute_vector(int n)
 {
   if (reduced_at != update->ntimestep) {
-    MPI_Allreduce(local, global, 2 * FACES, MPI_DOUBLE, MPI_SUM, world);
+    MPI_Allreduce(local, global, SUMS, MPI_DOUBLE, MPI_SUM, world);
     reduced_at = update->ntimestep;
   }
   if (n < FACES) return global[n];

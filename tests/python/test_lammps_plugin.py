@@ -137,6 +137,37 @@ def test_run0_forces_equal_fractums_first_evaluation(tmp_path, shape):
     assert err_t <= 1e-12
 
 
+@releases
+@pytest.mark.parametrize("scene, box", [("shpb_sand.toml", "3e-3"), ("mason_sand_shpb.toml", "2e-3")])
+def test_run0_forces_in_a_sleeve_equal_fractums_first_evaluation(tmp_path, scene, box):
+    """A jammed sample in the specimen's sleeve (spheres; the Mason sand ellipsoids, which
+    Fractum takes as poly-ellipsoids): the plugin's sleeve (fix fractum/platens sleeve) and
+    faces give Fractum's first forces and torques, as the box's faces do above; the sleeve
+    carries some of them, and its radial force is the sum of its contacts' normal forces."""
+    folder = str(tmp_path)
+    fractum("export", "lammps", os.path.join(ROOT, "scenes", scene), folder, "--plugin",
+            "--set", "walls.sleeve=true", "--set", f"sample.box=[{box},{box},{box}]",
+            "--set", "sample.packing=jammed", "--set", 'effects=["contact","damping","friction"]',
+            "--set", "loading.end_strain=0.01")
+    with open(os.path.join(folder, "in.fractum")) as f:
+        exported = f.read()
+    assert " sleeve " in exported and " xlo " not in exported and "d2_fr_walls 49" in exported
+    own = fractum_forces(folder)
+    lmp = run0(folder, extra="")
+    p = lammps(folder, head_of(folder) + 'run 0\nprint "SLEEVE $(f_walls[21]) $(f_walls[19])"\n')
+    contacts, radial = printed(p.stdout, "SLEEVE")
+    assert lmp.shape[0] == own.shape[0]
+    assert np.array_equal(lmp[:, 0], own[:, 0])
+    scale = np.abs(own[:, 1:4]).max()
+    err_f = np.abs(lmp[:, 1:4] - own[:, 1:4]).max() / scale
+    err_t = np.abs(lmp[:, 4:7] - own[:, 4:7]).max() / scale
+    print(f"{scene}: {contacts:.0f} sleeve contacts carrying {radial:.4g} N, largest force "
+          f"{scale:.4g} N, force error {err_f:.3g}, torque error {err_t:.3g} (N m per N)")
+    assert contacts > 0 and radial > 0
+    assert err_f <= 1e-12
+    assert err_t <= 1e-12
+
+
 def test_frictionless_spheres_equal_pair_granular(tmp_path):
     folder = str(tmp_path)
     fractum("export", "lammps", os.path.join(ROOT, "scenes", "shpb_sand.toml"), folder,
@@ -167,6 +198,17 @@ def test_frictionless_spheres_equal_pair_granular(tmp_path):
     ("pair_coeff * * young 60e9 poisson 0.7", ["pair fractum/granular", "poisson", "0.5"]),
     ("pair_coeff * * young 60e9 poisson 0.17 stiffness 3", ["pair fractum/granular", "stiffness", "allowed"]),
     ("fix walls all fractum/platens zmid 0", ["fix fractum/platens", "zmid", "xlo"]),
+    # The sleeve stands in place of the side faces, between the two z faces.
+    ("unfix walls\nfix walls all fractum/platens xlo 0 zlo 0 zhi 3e-3 sleeve 1.5e-3 1.5e-3 1.5e-3",
+     ["fix fractum/platens", "side faces", "xlo"]),
+    ("unfix walls\nfix walls all fractum/platens zlo 0 sleeve 1.5e-3 1.5e-3 1.5e-3",
+     ["fix fractum/platens", "zlo and zhi"]),
+    ("unfix walls\nfix walls all fractum/platens zlo 0 zhi 3e-3 sleeve 1.5e-3 1.5e-3 0",
+     ["fix fractum/platens", "radius", "> 0"]),
+    ("unfix walls\nfix walls all fractum/platens zlo 0 zhi 3e-3 sleeve_friction 0.3",
+     ["fix fractum/platens", "sleeve_friction", "sleeve CX CY R"]),
+    ("unfix walls\nfix walls all fractum/platens zlo 0 zhi 3e-3 sleeve 1.5e-3 1.5e-3 1.5e-3",
+     ["fix fractum/platens", "d2_fr_walls 49"]),
     ("fix fracture all fractum/fracture mi 20 sigma_c 5e8", ["fix fractum/fracture", "sigma_f"]),
     # The cohesive springs are their own style, after the fracture fix whose halves they bond.
     ("unfix cohesion\nfix cohesion all fractum/cohesion 1.77e6 40",

@@ -8,9 +8,11 @@ use fractum::contact::hertz_mindlin::{
     ContactForce, Hertz, KernelConsts, Mindlin, ViscousDamping, hertz_mindlin,
 };
 use fractum::contact::pair::{
-    BodyView, ContactBody, PairMemory, PairOut, Placement, bound_off_wall, bounds_apart, forget,
-    pair_contact_or_gap, pair_reach, skips, travel_step, wall_contact,
+    BodyView, ContactBody, PairMemory, PairOut, Placement, bound_off_sleeve, bound_off_wall,
+    bounds_apart, forget, pair_contact_or_gap, pair_reach, skips, sleeve_contact, travel_step,
+    wall_contact,
 };
+use fractum::state::{SLEEVE_SLICES, Sleeve};
 
 fn consts(law: &FractumContactLaw) -> KernelConsts {
     KernelConsts {
@@ -947,6 +949,65 @@ pub extern "C" fn fractum_kernel_wall(
             law.friction != 0,
             shapes != 0,
             wall_contact(&k, &va, &n, &p, &w, &mut hist, &mut held, dt, update != 0)
+        );
+        memory.hist = hist.into();
+        memory.radius = held;
+        *out = contact_out(c);
+        Ok(())
+    })
+}
+
+/// The contact of body `a` with a sleeve: the fixed, rigid circular cylinder of inner radius
+/// `radius` (m, > 0) whose axis runs along z through `centre` (3 doubles, m; its z is not
+/// read), as Fractum's contact effect computes it (`fractum::contact::pair::sleeve_contact`:
+/// with `shapes` nonzero a poly-ellipsoid's farthest point from the axis, else the sphere's
+/// closed form; the Hertz radius of a convex body in a concave cylinder), with the candidate's
+/// tangential displacement `memory->hist` (m) and held Hertz radius `memory->radius` (m;
+/// `memory->normal` is not used) over the step `dt` (s). `out->normal` points towards the
+/// axis; the sleeve gets the opposite force; `out->torque_b` is 0.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub extern "C" fn fractum_kernel_sleeve(
+    law: *const FractumContactLaw,
+    a: *const FractumBody,
+    centre: *const f64,
+    radius: f64,
+    memory: *mut FractumPairMemory,
+    dt: f64,
+    update: i32,
+    shapes: i32,
+    out: *mut FractumContact,
+) -> FractumStatus {
+    kernel(|| {
+        let law = get(law)?;
+        let a = get(a)?;
+        let centre = vec3_at(centre)?;
+        let memory = get_mut(memory)?;
+        let out = get_mut(out)?;
+        input_if(!(radius > 0.0 && radius.is_finite()))?;
+        let sleeve = Sleeve {
+            centre,
+            radius,
+            force: Vec3::zeros(),
+            load: 0.0,
+            slices: [0.0; SLEEVE_SLICES],
+            stiffness: 0.0,
+            contacts: 0,
+        };
+        if bound_off_sleeve(&Vec3::from(a.pos), a.radius, &sleeve) {
+            no_contact(law, shapes, memory, out);
+            return Ok(());
+        }
+        let a = body_in(a)?;
+        let k = consts(law);
+        let va = BodyView::new(&a);
+        let mut hist = Vec3::from(memory.hist);
+        let mut held = memory.radius;
+        let c = variants!(
+            law.damp != 0,
+            law.friction != 0,
+            shapes != 0,
+            sleeve_contact(&k, &va, &sleeve, &mut hist, &mut held, dt, update != 0)
         );
         memory.hist = hist.into();
         memory.radius = held;

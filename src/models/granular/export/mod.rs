@@ -103,6 +103,15 @@ impl<'a> RunPlan<'a> {
             .unwrap_or(self.cfg.material.friction)
     }
 
+    /// The sleeve's friction coefficient, as the contact effect defaults it: its own, else
+    /// the walls', else the grains'.
+    fn sleeve_friction(&self) -> f64 {
+        self.cfg
+            .walls
+            .sleeve_friction
+            .unwrap_or_else(|| self.wall_friction())
+    }
+
     /// Speed of the driven top wall (m/s, downwards) and the box height at the start.
     fn top_speed(&self) -> Option<(f64, f64)> {
         match self.loading {
@@ -154,18 +163,12 @@ pub fn export(
         ));
     }
     let cfg = super::Granular::read(&scene)?;
-    if cfg.walls.sleeve {
-        let code = if plugin {
-            "lammps --plugin"
-        } else if lammps {
-            "lammps"
-        } else {
-            "yade"
-        };
+    if cfg.walls.sleeve && !plugin {
+        let code = if lammps { "lammps" } else { "yade" };
         return Err(scene.key_error(
             "walls.sleeve",
             format!(
-                "= true: `fractum export {code}` writes flat walls only, and the sleeve (a cylinder) has no counterpart in the exported script yet"
+                "= true: `fractum export {code}` writes flat walls only, and the sleeve (a cylinder) has no counterpart there (`fractum export lammps --plugin` writes it: the plugin's fix fractum/platens has the sleeve)"
             ),
         ));
     }

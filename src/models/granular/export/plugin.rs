@@ -122,7 +122,8 @@ pub fn first_forces(sim: &Simulation) -> String {
 
 /// A LAMMPS input that runs the scene with the Fractum plugin from `data_file`: Fractum's
 /// contact law for spheres and poly-ellipsoids (`pair fractum/granular`), its integrator
-/// (`fix fractum/nve/polyell`), its walls as moving box faces (`fix fractum/platens`) and,
+/// (`fix fractum/nve/polyell`), its walls as moving box faces (`fix fractum/platens`, with the
+/// scene's sleeve in place of the side faces where it has one) and,
 /// with the `fracture` effect, grain fracture (`fix fractum/fracture`; with `cohesion`, its
 /// springs: `fix fractum/cohesion`), at Fractum's time
 /// step for Fractum's number of steps. `series_file` gets, every `output.every` steps, the
@@ -185,10 +186,12 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
          # how far each body may have moved (m, summed by fix fractum/nve/polyell): the pair's\n\
          # separated pairs' skip reads it (leave it out and every candidate is searched)\n\
          fix             frtravel all property/atom d2_fr_travel 1 ghost yes\n\
-         fix             frstate all property/atom d2_fr_springs {} d2_fr_walls 42 d2_fr_last 7\n\
+         fix             frstate all property/atom d2_fr_springs {} d2_fr_walls {} d2_fr_last 7\n\
          read_data       {data_file} fix frshape NULL FractumShape fix frorient NULL FractumOrient &\n\
          \x20               fix frinertia NULL FractumInertia fix frgrain NULL FractumGrain\n",
-        21 * plan.cfg.fracture.springs.max(1)
+        21 * plan.cfg.fracture.springs.max(1),
+        // Each face's contact history, and the sleeve's after them.
+        7 * (6 + usize::from(st.walls.sleeve.is_some()))
     );
     if !st.walls.is_empty() {
         // LAMMPS drops an atom whose centre leaves a fixed boundary: a grain pressed into a
@@ -226,7 +229,16 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     );
     let mut faces = String::new();
     let mut present = Vec::new();
-    for w in &st.walls.walls {
+    // With a sleeve the side faces touch nothing (Walls::touches): the plugin leaves them out.
+    let touching = |k: usize| st.walls.touches(k);
+    for w in st
+        .walls
+        .walls
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| touching(*k))
+        .map(|(_, w)| w)
+    {
         let Some((face, pos)) = plugin_face(&w.normal, &w.point) else {
             return Err(Error::input(
                 &scene.source.label,
@@ -242,7 +254,14 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     // The driven faces: the loading's speeds at the start (constant for the oedometer and the
     // platens).
     let mut drive = String::new();
-    for w in &st.walls.walls {
+    for w in st
+        .walls
+        .walls
+        .iter()
+        .enumerate()
+        .filter(|(k, _)| touching(*k))
+        .map(|(_, w)| w)
+    {
         let (face, _) = plugin_face(&w.normal, &w.point).expect("checked above");
         let speed = match plan.loading.as_loading().top_speed() {
             Some(down) if face == 5 => -down,
@@ -256,6 +275,16 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         let mut line = format!("fix             walls all fractum/platens{faces}{drive}");
         if plan.has(EffectKind::Friction) {
             let _ = write!(line, " friction {:e}", plan.wall_friction());
+        }
+        if let Some(sleeve) = &st.walls.sleeve {
+            let _ = write!(
+                line,
+                " sleeve {:.17e} {:.17e} {:.17e}",
+                sleeve.centre.x, sleeve.centre.y, sleeve.radius
+            );
+            if plan.has(EffectKind::Friction) {
+                let _ = write!(line, " sleeve_friction {:e}", plan.sleeve_friction());
+            }
         }
         let _ = writeln!(s, "{line}");
     }
@@ -313,6 +342,14 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
     for &face in &present {
         columns.push(format!("position_{}", PLUGIN_FACES[face]));
         values.push(format!("f_walls[{}]", face + 7));
+    }
+    if st.walls.sleeve.is_some() {
+        // The sleeve's radial force (N; over its inner area 2 pi R h, Fractum's
+        // stress_lateral) and the force along z its friction holds (sleeve_axial_force).
+        for (c, k) in [("sleeve_radial_force", 19), ("sleeve_axial_force", 20)] {
+            columns.push(c.into());
+            values.push(format!("f_walls[{k}]"));
+        }
     }
     columns.push("atoms".into());
     values.push("atoms".into());
