@@ -215,6 +215,14 @@ typedef struct FractumFractureLaw {
   // Nonzero: a grain's Weibull factor scales sigma_c as well as sigma_f (a scene's
   // `fracture.weibull_on = "both"`); 0: sigma_f only (`"contact"`, the paper's reading).
   int32_t weibull_sigma_c;
+  // Nonzero: a grain's Weibull factor is its particle strength (`fracture.weibull_on =
+  // "particle"`, with `weibull_sigma_c` nonzero): sigma_c scales with it and the contact
+  // tensile strength with its cube root, so the critical contacts are those above
+  // `sigma_f * cbrt(strength)`.
+  int32_t particle_strength;
+  // Equivalent radius (3V/4π)^(1/3) (m, >= 0) below which a piece no longer splits
+  // (`fracture.comminution_limit`): fractum_kernel_check finds no break for it. 0: none.
+  double comminution_limit;
 } FractumFractureLaw;
 
 // Why a grain breaks. kind 0: it does not; 1: Hoek-Brown on its average stress (`stress`,
@@ -797,7 +805,10 @@ enum FractumStatus fractum_kernel_contacts_plane_normal(const double (*points)[3
 // (m, largest stress first; may be null when n_critical is 0) spanning a plane and
 // `top_stress` (Pa) the largest of their stresses. The caller sums the moment over a grain's
 // contacts (force on it (x) (point - centre)) and collects its critical contacts; Fractum
-// checks only grains with a nonzero moment that no spring holds. `out->kind` = 0: no break.
+// checks only grains with a nonzero moment that no spring holds. `out->kind` = 0: no break,
+// and so for a piece below `law->comminution_limit`, which Fractum does not check. With
+// `law->particle_strength` the critical contacts are those above `law->sigma_f *
+// cbrt(strength)`.
 enum FractumStatus fractum_kernel_check(const struct FractumFractureLaw *law,
                                         const struct FractumBody *b,
                                         double strength,
@@ -841,6 +852,18 @@ enum FractumStatus fractum_kernel_grain_strength(uint64_t seed,
                                                  double w,
                                                  double x_m,
                                                  double *factor);
+
+// `fractum_kernel_grain_strength` with the size exponent `beta` (>= 0) given: the factor
+// scales as (x/x_m)^(-beta) instead of Eq. 18's (x/x_m)^(-2/w) (a scene's
+// `fracture.size_exponent`; `fractum::fracture::grain_strength_sized`), the same draw.
+enum FractumStatus fractum_kernel_grain_strength_sized(uint64_t seed,
+                                                       uint64_t grain,
+                                                       uint32_t generation,
+                                                       const struct FractumBody *b,
+                                                       double w,
+                                                       double beta,
+                                                       double x_m,
+                                                       double *factor);
 
 // The angles (3 doubles, rad) of the slight random rotation of sphere `grain`'s ideal break
 // plane at its split after `generation` splits, as Fractum's run draws them
@@ -1023,7 +1046,8 @@ enum FractumStatus fractum_kernel_kick_atoms(const struct FractumAtomRows *atoms
 // grain load of an atom that no cohesive spring holds (`grain` row: column 0 its Weibull
 // factor, column 3 its intact springs) by the contact, as `fractum_kernel_grain_load_add`
 // adds it about the atom's centre (`centre` row) with the threshold `sigma_f` times the
-// factor. `shares` and `loads` hold `n_atoms` entries; every atom a side names must be below
+// factor (times its cube root with `particle` nonzero: the factor is the grain's particle
+// strength, as `fracture.weibull_on = "particle"` reads it). `shares` and `loads` hold `n_atoms` entries; every atom a side names must be below
 // `n_atoms` (`FRACTUM_ERR_INPUT` otherwise, before anything is added).
 enum FractumStatus fractum_kernel_sum_contacts(const struct FractumTouching *touching,
                                                size_t n_touching,
@@ -1036,6 +1060,7 @@ enum FractumStatus fractum_kernel_sum_contacts(const struct FractumTouching *tou
                                                const double *const *grain,
                                                double poisson,
                                                double sigma_f,
+                                               int32_t particle,
                                                double *shares,
                                                struct FractumGrainLoad *loads);
 

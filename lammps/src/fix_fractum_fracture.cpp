@@ -22,9 +22,10 @@ using namespace LAMMPS_NS;
 using namespace FixConst;
 
 static const char *STYLE = "fix fractum/fracture";
-static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] [weibull_on contact|both] "
-                           "[critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] "
-                           "[seed N]";
+static const char *USAGE = "mi M sigma_c S sigma_f S [weibull W XM] "
+                           "[weibull_on contact|both|particle] [size_exponent B] "
+                           "[comminution_limit L] [critical_contacts N] [ideal_plane yes|no] "
+                           "[plane_jitter yes|no] [seed N]";
 
 FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(lmp, narg, arg)
 {
@@ -67,14 +68,29 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
       weibull = 1;
       iarg += 3;
     } else if (key == "weibull_on") {
-      if (iarg + 1 >= narg) error->all(FLERR, "{}: weibull_on needs contact or both", STYLE);
+      if (iarg + 1 >= narg)
+        error->all(FLERR, "{}: weibull_on needs contact, both or particle", STYLE);
       std::string on = arg[iarg + 1];
+      particle = 0;
       if (on == "contact")
         weibull_sigma_c = 0;
       else if (on == "both")
         weibull_sigma_c = 1;
+      else if (on == "particle")
+        weibull_sigma_c = particle = 1;
       else
-        error->all(FLERR, "{}: weibull_on = {} must be contact or both", STYLE, on);
+        error->all(FLERR, "{}: weibull_on = {} must be contact, both or particle", STYLE, on);
+      iarg += 2;
+    } else if (key == "size_exponent") {
+      // fracture.size_exponent's range (docs/scenes.md).
+      size_exponent = num(iarg + 1, "size_exponent");
+      if (!(size_exponent >= 0.0 && size_exponent <= 6.0))
+        error->all(FLERR, "{}: size_exponent = {} must lie in [0, 6]", STYLE, size_exponent);
+      iarg += 2;
+    } else if (key == "comminution_limit") {
+      comminution_limit = num(iarg + 1, "comminution_limit");
+      if (!(comminution_limit > 0.0) || !std::isfinite(comminution_limit))
+        error->all(FLERR, "{}: comminution_limit = {} must be > 0 (m)", STYLE, comminution_limit);
       iarg += 2;
     } else if (key == "cohesion") {
       error->all(FLERR,
@@ -113,6 +129,9 @@ FixFractumFracture::FixFractumFracture(LAMMPS *lmp, int narg, char **arg) : Fix(
   }
   if (!have_mi || !have_sc || !have_sf)
     error->all(FLERR, "{}: mi, sigma_c and sigma_f are required: {}", STYLE, USAGE);
+  if ((particle || size_exponent >= 0.0) && !weibull)
+    error->all(FLERR, "{}: weibull_on particle and size_exponent scale the Weibull factor: give "
+               "weibull W XM", STYLE);
   force_reneighbor = 1;
   next_reneighbor = -1;
   nevery = 1;
@@ -169,24 +188,28 @@ void FixFractumFracture::init()
   law.ideal_plane = ideal_plane;
   law.plane_jitter = plane_jitter;
   law.weibull_sigma_c = weibull ? weibull_sigma_c : 0;
+  law.particle_strength = weibull ? particle : 0;
+  law.comminution_limit = comminution_limit;
   // The cohesive springs, when a fix fractum/cohesion bonds the halves: the split places its
   // springs' points, and that fix bonds with this law.
   cohesion = find_cohesion();
   law.springs = cohesion ? cohesion->springs_per_plane() : 0;
   law.gc = cohesion ? cohesion->cohesive_energy(*material) : 0.0;
   if (cohesion) cohesion->use_law(law);
-  sums->want_loads(sigma_f);
+  sums->want_loads(sigma_f, law.particle_strength != 0);
 }
 
 /* The Weibull factor of grain `tag` after `generation` splits, drawn as Fractum's run draws it
-   (fractum_kernel_grain_strength: keyed by seed, grain and generation; 1 without weibull). */
+   (fractum_kernel_grain_strength_sized: keyed by seed, grain and generation, the size exponent
+   given or Eq. 18's 2/w; 1 without weibull). */
 double FixFractumFracture::draw_strength(tagint tag, int generation, const FractumBody &b)
 {
   if (!weibull) return 1.0;
   double factor = 0.0;
-  int status = fractum_kernel_grain_strength(static_cast<uint64_t>(seed), static_cast<uint64_t>(tag),
-                                             static_cast<uint32_t>(generation), &b, weibull_w,
-                                             weibull_xm, &factor);
+  const double beta = size_exponent >= 0.0 ? size_exponent : 2.0 / weibull_w;
+  int status = fractum_kernel_grain_strength_sized(
+      static_cast<uint64_t>(seed), static_cast<uint64_t>(tag), static_cast<uint32_t>(generation),
+      &b, weibull_w, beta, weibull_xm, &factor);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "grain_strength", status);
   return factor;
 }

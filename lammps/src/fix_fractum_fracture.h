@@ -6,7 +6,8 @@
    The cohesive springs that hold the halves together are fix fractum/cohesion's, which this
    fix hands each split's halves.
 
-   fix ID group fractum/fracture mi M sigma_c S sigma_f S [weibull W XM] [weibull_on contact|both]
+   fix ID group fractum/fracture mi M sigma_c S sigma_f S [weibull W XM]
+       [weibull_on contact|both|particle] [size_exponent B] [comminution_limit L]
        [critical_contacts N] [ideal_plane yes|no] [plane_jitter yes|no] [seed N]
 
    Per-atom state: d2_fr_grain (strength factor, sample grain, splits, intact springs, parent).
@@ -50,7 +51,9 @@ class FixFractumFracture : public Fix {
   FractumFractureLaw law{};
   double mi = 0, sigma_c = 0, sigma_f = 0, weibull_w = 0, weibull_xm = 0;
   int critical_contacts = 3, ideal_plane = 1, plane_jitter = 0, weibull = 0,
-      weibull_sigma_c = 0;
+      weibull_sigma_c = 0, particle = 0;
+  double size_exponent = -1.0;       // < 0: Eq. 18's 2/w
+  double comminution_limit = 0.0;    // 0: every piece may split
   class FixFractumCohesion *cohesion = nullptr;    // found at init
   bigint seed = 1;
   bool split_evaluated = false;

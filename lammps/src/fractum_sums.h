@@ -20,6 +20,7 @@
 #include <mpi.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace LAMMPS_NS {
@@ -28,10 +29,11 @@ class FractumSums {
  public:
   /* fix fractum/fracture: every evaluation sums grain loads, a contact critical above sigma_f
      (Pa) times the grain's Weibull factor. */
-  void want_loads(double sigma_f_at_factor_1)
+  void want_loads(double sigma_f_at_factor_1, bool particle_strength)
   {
     loads_on = true;
     sigma_f = sigma_f_at_factor_1;
+    particle = particle_strength;
   }
   /* fix fractum/dt: the next evaluation sums frequency shares (`on`), or not. */
   void want_shares(bool on) { shares_due = on; }
@@ -41,6 +43,8 @@ class FractumSums {
      sum (fractum_kernel_sum_contacts) adds to after `begin`: loads while wanted, shares while
      due. */
   double threshold() const { return sigma_f; }
+  /* The Weibull factor is the particle strength: the threshold is sigma_f times its cube root. */
+  bool particle_strength() const { return particle; }
   FractumGrainLoad *loads_data() { return loads.data(); }
   double *shares_data() { return shares.data(); }
 
@@ -60,7 +64,9 @@ class FractumSums {
   {
     if (!loads_on) return;
     int status = fractum_kernel_grain_load_add(&loads[i], centre, f, p, hertz_force, radius,
-                                               poisson, sigma_f * strength);
+                                               poisson,
+                                               particle ? sigma_f * std::cbrt(strength)
+                                                        : sigma_f * strength);
     if (status != FRACTUM_OK) fractum_kernel_failed(lmp, style, "grain_load_add", status);
   }
   /* Contact c's share of owned atom i's row (body b; its partner, nullptr for a wall). */
@@ -128,6 +134,7 @@ class FractumSums {
 
  private:
   bool loads_on = false, shares_due = false, split_now = false, split_next = false;
+  bool particle = false;
   double sigma_f = 0.0;
   std::vector<FractumGrainLoad> loads;
   std::vector<double> shares;

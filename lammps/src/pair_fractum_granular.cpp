@@ -247,6 +247,7 @@ void PairFractumGranular::compute(int eflag, int vflag)
   status = fractum_kernel_sum_contacts(
       touching.data(), n_touching, codes.data(), n_sides, nlocal, f, torque, atom->x,
       loads ? grain_arr : nullptr, material.poisson, sums.threshold(),
+      sums.particle_strength() ? 1 : 0,
       frequency_due ? sums.shares_data() : nullptr, loads ? sums.loads_data() : nullptr);
   if (status != FRACTUM_OK) fractum_kernel_failed(lmp, STYLE, "sum_contacts", status);
   sums.reshaped_done();

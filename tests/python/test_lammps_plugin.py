@@ -222,6 +222,14 @@ def test_frictionless_spheres_equal_pair_granular(tmp_path):
      ["fix fractum/fracture", "cohesion", "fix fractum/cohesion"]),
     ("fix cohesion2 all fractum/cohesion 1.77e6 4", ["fix fractum/cohesion", "second", "twice"]),
     ("unfix fracture", ["fix fractum/cohesion", "needs fix fractum/fracture"]),
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 weibull_on particle",
+     ["fix fractum/fracture", "particle", "weibull W XM"]),
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 weibull 2 1e-4 size_exponent 7",
+     ["fix fractum/fracture", "size_exponent", "[0, 6]"]),
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 comminution_limit 0",
+     ["fix fractum/fracture", "comminution_limit", "> 0"]),
+    ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 weibull_on grain",
+     ["fix fractum/fracture", "weibull_on", "contact, both or particle"]),
     ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 critical_contacts 2",
      ["fix fractum/fracture", "critical_contacts", "3..64"]),
     ("fix fracture all fractum/fracture mi 20 sigma_c 5e8 sigma_f 3e9 critical_contacts 65",
@@ -806,3 +814,100 @@ def test_older_wheel_builds_with_its_string_abi(tmp_path):
         old, old_report = fast_crush(folder, ranks, venv=OLD_VENV, plugin=variant)
         assert old_report == report and report[0] >= 3, ranks
         assert np.array_equal(old, here), ranks
+
+
+SPECIMEN = os.path.join(ROOT, "scenes", "mason_sand_specimen.toml")
+# The laboratory's specimen at a sixth of its diameter (L/D 0.81): about 110 Mason grains
+# jammed in a 2 mm sleeve, to 2% strain.
+SMALL_SPECIMEN = ["--set", "sample.box=[2e-3,2e-3,1.62e-3]", "--set", "loading.end_strain=0.02",
+                  "--set", "output.every=20"]
+
+
+def test_the_mason_specimen_runs_as_fractums_to_its_first_split_and_alike_on_two_ranks(tmp_path):
+    """The specimen scene (sleeve, particle strengths with their size exponent, comminution
+    limit) through `fractum export lammps --plugin`: the same faces' and sleeve's forces as
+    Fractum's own run (1e-6 of their largest, as the crushed grain above) up to the first
+    split, the same failing step; then one and two ranks give the same atoms and the same
+    fracture report."""
+    folder = str(tmp_path)
+    cache = os.path.join(folder, "cache")
+    env_cache = dict(os.environ, FRACTUM_SAMPLE_CACHE=cache)
+    for args in (["export", "lammps", SPECIMEN, folder, "--plugin", *SMALL_SPECIMEN],
+                 ["run", SPECIMEN, "--out", os.path.join(folder, "fr"), "--threads", "1",
+                  *SMALL_SPECIMEN]):
+        p = subprocess.run([BIN, *args, "--quiet"], capture_output=True, text=True, timeout=900,
+                           env=env_cache)
+        assert p.returncode == 0, p.stdout + p.stderr
+    with open(os.path.join(folder, "in.fractum")) as f:
+        exported = f.read()
+    assert "weibull_on particle" in exported and " comminution_limit " in exported
+    radius = float(re.search(r" sleeve \S+ \S+ (\S+)", exported).group(1))
+    script = with_run(
+        folder,
+        before_run="variable splits equal f_fracture[1]\n"
+                   "fix first all halt 1 v_splits > 0 error continue message no",
+        after='print "SPLIT $(f_fracture[8])"')
+    p = lammps(folder, script)
+    failed_at, = printed(p.stdout, "SPLIT")
+    with open(os.path.join(folder, "fr", "summary.json")) as f:
+        first = json.load(f)["first_split"]
+    own = np.genfromtxt(os.path.join(folder, "fr", "series.csv"), delimiter=",", names=True)
+    lmp = np.genfromtxt(os.path.join(folder, "series_lammps.csv"), delimiter=",", names=True)
+    n = int(np.argmax(own["bodies"] > own["bodies"][0]))
+    assert n > 20 and len(lmp) >= n
+    area = np.pi * radius ** 2
+    h = lmp["position_zhi"][:n] - lmp["position_zlo"][:n]
+    pairs = [(own["stress_driven"][:n] * area, lmp["force_zhi"][:n]),
+             (own["stress_opposite"][:n] * area, -lmp["force_zlo"][:n]),
+             (own["stress_lateral_x"][:n] * 2 * np.pi * radius * h, lmp["sleeve_radial_force"][:n]),
+             (own["sleeve_axial_force"][:n], lmp["sleeve_axial_force"][:n])]
+    errors = [np.abs(a - b).max() / np.abs(a).max() for a, b in pairs]
+    print(f"first failure at step {first['step']:.0f} (Fractum), {failed_at:.0f} (plugin); "
+          f"before it, driven, opposite, radial and axial force errors {errors}")
+    assert all(np.abs(a).max() > 0 for a, _ in pairs)
+    assert failed_at == first["step"]
+    assert max(errors) <= 1e-6
+
+    # The plugin's own draws of the grains' particle strengths (size exponent 1.5, not Eq.
+    # 18's 2/w) are the factors Fractum wrote into the data file, bit for bit.
+    dump = "write_dump all custom grains.dump id d2_fr_grain[1] modify format float %.17g\n"
+    factors = []
+    for zero in (False, True):
+        lammps(folder, head_of(folder) + ("set group all d2_fr_grain[1] 0.0\n" if zero else "")
+               + "run 0\n" + dump)
+        factors.append(read_dump(os.path.join(folder, "grains.dump"))[:, 1])
+    assert np.array_equal(factors[0], factors[1]) and len(set(factors[0])) == len(factors[0])
+
+    # To the end of the export's run (2% strain), where Fractum's own run has split 3 grains.
+    one, report_one = split_run(folder, 1, 2500)
+    two, report_two = split_run(folder, 2, 2500)
+    print(f"1 and 2 ranks: {report_one[0]:.0f} splits, {report_one[4]:.0f} atoms")
+    assert report_one[0] >= 2
+    assert report_two == report_one
+    assert one.shape == two.shape
+    assert np.array_equal(one[:, [0, 1, 2, 9]], two[:, [0, 1, 2, 9]])
+    err = np.abs(one[:, 3:6] - two[:, 3:6]).max() / 2e-3
+    print(f"positions: 1 against 2 ranks {err:.3g} of the sleeve's diameter")
+    assert err <= 1e-10
+
+
+def test_a_grain_below_the_comminution_limit_stays_whole(tmp_path):
+    """The crushed grain (equivalent radius about 0.3 mm) with a comminution limit of 1 mm: the
+    plugin's fracture fix finds no break past the displacement where it breaks without the
+    limit, as Fractum's own run (fracture.comminution_limit)."""
+    short = ["--set", "loading.end_displacement=0.06e-3"]    # past the first split (0.057 mm)
+    splits = {}
+    for limit in (None, "1e-3"):
+        folder = str(tmp_path / f"limit_{limit}")
+        extra = short + (["--set", f"fracture.comminution_limit={limit}"] if limit else [])
+        fractum("export", "lammps", CRUSH, folder, "--plugin", *extra)
+        fractum("run", CRUSH, "--out", os.path.join(folder, "fr"), *extra)
+        with open(os.path.join(folder, "in.fractum")) as f:
+            assert ("comminution_limit" in f.read()) == (limit is not None)
+        p = lammps(folder, with_run(folder, after='print "SPLITS $(f_fracture[1])"'))
+        with open(os.path.join(folder, "fr", "summary.json")) as f:
+            own = json.load(f)["splits"]["total"]
+        splits[limit] = (printed(p.stdout, "SPLITS")[0], own)
+    print(f"splits (plugin, Fractum): without the limit {splits[None]}, with it {splits['1e-3']}")
+    assert splits[None][0] >= 1 and splits[None][1] >= 1
+    assert splits["1e-3"] == (0.0, 0)

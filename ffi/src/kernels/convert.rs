@@ -36,13 +36,12 @@ pub(crate) fn fracture_params_in(l: &FractumFractureLaw) -> FractureParams {
         sigma_c: l.sigma_c,
         sigma_f: l.sigma_f,
         weibull: None,
-        // The plugin draws its Weibull factors itself (fractum_kernel_grain_strength, Eq. 18's
-        // size law) and knows no comminution limit: a scene that asks for either is refused
-        // by `fractum export lammps --plugin`.
+        // A host draws its Weibull factors itself (fractum_kernel_grain_strength_sized, with
+        // its size exponent): nothing the kernels call reads it.
         size_exponent: f64::NAN,
         weibull_sigma_c: l.weibull_sigma_c != 0,
-        particle_strength: false,
-        comminution_limit: 0.0,
+        particle_strength: l.particle_strength != 0,
+        comminution_limit: l.comminution_limit,
         critical_contacts: l.critical_contacts as usize,
         cohesion: (l.springs > 0).then_some((l.gc, l.springs as usize)),
         ideal_plane: l.ideal_plane != 0,

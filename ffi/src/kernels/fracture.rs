@@ -120,6 +120,7 @@ fn fracture_params(l: &FractumFractureLaw) -> Result<FractureParams, FractumStat
     let within = |v: i32, (lo, hi): (usize, usize)| v >= 0 && (lo..=hi).contains(&(v as usize));
     let springs_ok = l.springs == 0 || within(l.springs, fractum::fracture::SPRINGS);
     input_if(!within(l.critical_contacts, fractum::fracture::CRITICAL_CONTACTS) || !springs_ok)?;
+    input_if(!(l.comminution_limit >= 0.0 && l.comminution_limit.is_finite()))?;
     Ok(fracture_params_in(l))
 }
 
@@ -163,7 +164,10 @@ fn trigger_in(t: &FractumTrigger) -> Result<Trigger, FractumStatus> {
 /// (m, largest stress first; may be null when n_critical is 0) spanning a plane and
 /// `top_stress` (Pa) the largest of their stresses. The caller sums the moment over a grain's
 /// contacts (force on it (x) (point - centre)) and collects its critical contacts; Fractum
-/// checks only grains with a nonzero moment that no spring holds. `out->kind` = 0: no break.
+/// checks only grains with a nonzero moment that no spring holds. `out->kind` = 0: no break,
+/// and so for a piece below `law->comminution_limit`, which Fractum does not check. With
+/// `law->particle_strength` the critical contacts are those above `law->sigma_f *
+/// cbrt(strength)`.
 #[unsafe(no_mangle)]
 #[allow(clippy::too_many_arguments)]
 pub extern "C" fn fractum_kernel_check(
@@ -184,6 +188,10 @@ pub extern "C" fn fractum_kernel_check(
         let torque = vec3_at(torque)?;
         let pts = points(critical_points, n_critical.min(3))?;
         let out = get_mut(out)?;
+        if p.below_comminution_limit(b.volume()) {
+            *out = trigger_out(None);
+            return Ok(());
+        }
         *out = trigger_out(grain_fails(
             &p, &b, strength, &moment, &torque, n_critical, pts, top_stress,
         ));
@@ -300,6 +308,30 @@ pub extern "C" fn fractum_kernel_grain_strength(
         let volume = body_in(get(b)?)?.volume();
         *get_mut(factor)? =
             fractum::fracture::grain_strength(seed, grain, generation, volume, w, x_m);
+        Ok(())
+    })
+}
+
+/// `fractum_kernel_grain_strength` with the size exponent `beta` (>= 0) given: the factor
+/// scales as (x/x_m)^(-beta) instead of Eq. 18's (x/x_m)^(-2/w) (a scene's
+/// `fracture.size_exponent`; `fractum::fracture::grain_strength_sized`), the same draw.
+#[unsafe(no_mangle)]
+#[allow(clippy::too_many_arguments)]
+pub extern "C" fn fractum_kernel_grain_strength_sized(
+    seed: u64,
+    grain: u64,
+    generation: u32,
+    b: *const FractumBody,
+    w: f64,
+    beta: f64,
+    x_m: f64,
+    factor: *mut f64,
+) -> FractumStatus {
+    kernel(|| {
+        input_if(!(w > 0.0 && x_m > 0.0 && beta >= 0.0 && beta.is_finite()))?;
+        let volume = body_in(get(b)?)?.volume();
+        *get_mut(factor)? =
+            fractum::fracture::grain_strength_sized(seed, grain, generation, volume, w, beta, x_m);
         Ok(())
     })
 }

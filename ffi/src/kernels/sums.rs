@@ -13,7 +13,8 @@ use fractum::fracture::GrainLoad;
 /// grain load of an atom that no cohesive spring holds (`grain` row: column 0 its Weibull
 /// factor, column 3 its intact springs) by the contact, as `fractum_kernel_grain_load_add`
 /// adds it about the atom's centre (`centre` row) with the threshold `sigma_f` times the
-/// factor. `shares` and `loads` hold `n_atoms` entries; every atom a side names must be below
+/// factor (times its cube root with `particle` nonzero: the factor is the grain's particle
+/// strength, as `fracture.weibull_on = "particle"` reads it). `shares` and `loads` hold `n_atoms` entries; every atom a side names must be below
 /// `n_atoms` (`FRACTUM_ERR_INPUT` otherwise, before anything is added).
 #[unsafe(no_mangle)]
 #[allow(clippy::too_many_arguments)]
@@ -29,6 +30,7 @@ pub extern "C" fn fractum_kernel_sum_contacts(
     grain: *const *const f64,
     poisson: f64,
     sigma_f: f64,
+    particle: i32,
     shares: *mut f64,
     loads: *mut FractumGrainLoad,
 ) -> FractumStatus {
@@ -106,7 +108,11 @@ pub extern "C" fn fractum_kernel_sum_contacts(
                 t.hertz_force,
                 t.radius,
                 poisson,
-                sigma_f * g[0],
+                if particle != 0 {
+                    sigma_f * g[0].cbrt()
+                } else {
+                    sigma_f * g[0]
+                },
             );
         }
         close(&mut open, loads);

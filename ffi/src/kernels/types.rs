@@ -153,6 +153,14 @@ pub struct FractumFractureLaw {
     /// Nonzero: a grain's Weibull factor scales sigma_c as well as sigma_f (a scene's
     /// `fracture.weibull_on = "both"`); 0: sigma_f only (`"contact"`, the paper's reading).
     pub weibull_sigma_c: i32,
+    /// Nonzero: a grain's Weibull factor is its particle strength (`fracture.weibull_on =
+    /// "particle"`, with `weibull_sigma_c` nonzero): sigma_c scales with it and the contact
+    /// tensile strength with its cube root, so the critical contacts are those above
+    /// `sigma_f * cbrt(strength)`.
+    pub particle_strength: i32,
+    /// Equivalent radius (3V/4π)^(1/3) (m, >= 0) below which a piece no longer splits
+    /// (`fracture.comminution_limit`): fractum_kernel_check finds no break for it. 0: none.
+    pub comminution_limit: f64,
 }
 
 /// Why a grain breaks. kind 0: it does not; 1: Hoek-Brown on its average stress (`stress`,

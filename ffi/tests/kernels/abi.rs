@@ -78,6 +78,7 @@ exports! {
     fn fractum_kernel_fracture_range(key: *const c_char, lo: *mut f64, hi: *mut f64) -> FractumStatus;
     fn fractum_kernel_grain_load_add(load: *mut FractumGrainLoad, centre: *const f64, force: *const f64, point: *const f64, hertz_force: f64, radius: f64, poisson: f64, threshold: f64) -> FractumStatus;
     fn fractum_kernel_grain_strength(seed: u64, grain: u64, generation: u32, b: *const FractumBody, w: f64, x_m: f64, factor: *mut f64) -> FractumStatus;
+    fn fractum_kernel_grain_strength_sized(seed: u64, grain: u64, generation: u32, b: *const FractumBody, w: f64, beta: f64, x_m: f64, factor: *mut f64) -> FractumStatus;
     fn fractum_kernel_grain_jitter(seed: u64, grain: u64, generation: u32, angles: *mut f64) -> FractumStatus;
     fn fractum_kernel_split(law: *const FractumFractureLaw, parent: *const FractumBody, force: *const f64, torque: *const f64, trigger: *const FractumTrigger, jitter: *const f64, out: *mut FractumSplit) -> FractumStatus;
     fn fractum_kernel_jitter_angles(u: *const f64, angles: *mut f64) -> FractumStatus;
@@ -95,5 +96,5 @@ exports! {
     fn fractum_kernel_kick(b: *mut FractumBody, force: *const f64, torque: *const f64, dt: f64) -> FractumStatus;
     fn fractum_kernel_kick_drift_atoms(atoms: *const FractumAtomRows, dt: f64) -> FractumStatus;
     fn fractum_kernel_kick_atoms(atoms: *const FractumAtomRows, dt: f64) -> FractumStatus;
-    fn fractum_kernel_sum_contacts(touching: *const FractumTouching, n_touching: usize, sides: *const i32, n_sides: usize, n_atoms: usize, force: *const *mut f64, torque: *const *mut f64, centre: *const *const f64, grain: *const *const f64, poisson: f64, sigma_f: f64, shares: *mut f64, loads: *mut FractumGrainLoad) -> FractumStatus;
+    fn fractum_kernel_sum_contacts(touching: *const FractumTouching, n_touching: usize, sides: *const i32, n_sides: usize, n_atoms: usize, force: *const *mut f64, torque: *const *mut f64, centre: *const *const f64, grain: *const *const f64, poisson: f64, sigma_f: f64, particle: i32, shares: *mut f64, loads: *mut FractumGrainLoad) -> FractumStatus;
 }

@@ -119,6 +119,8 @@ fn check_gives_the_library_bits() {
     for case in 0..200 {
         let law = FractumFractureLaw {
             weibull_sigma_c: i32::from(d.flag()),
+            particle_strength: 0,
+            comminution_limit: 0.0,
             ..fracture_law(4, d.flag(), d.flag())
         };
         let p = law_params(&law);
@@ -603,6 +605,8 @@ fn fracture_law_fields_by_hand() {
         springs: 7,
         gc: 13.5,
         weibull_sigma_c: 1,
+        particle_strength: 0,
+        comminution_limit: 0.0,
     };
     let mut bodies = Bodies::default();
     let q = UnitQuaternion::from_scaled_axis(Vec3::new(0.3, -0.2, 0.1));
@@ -653,6 +657,8 @@ fn fracture_law_fields_by_hand() {
     let squeezed = squeeze(&b, Vec3::x(), f);
     let sigma_f_only = FractumFractureLaw {
         weibull_sigma_c: 0,
+        particle_strength: 0,
+        comminution_limit: 0.0,
         ..law
     };
     assert_eq!(check(&sigma_f_only, 0.5, &squeezed, 0, &[]).0.kind, 0);
@@ -719,4 +725,113 @@ fn fracture_law_fields_by_hand() {
     for (s, m) in springs.iter().zip(&made) {
         assert_eq!(spring_bits(s), spring_bits(&c_spring(&m.spring)));
     }
+}
+
+/// The strength draws are the library's for the same grain, generation and seed: Eq. 18's
+/// size law (`fractum_kernel_grain_strength`) and a given size exponent
+/// (`fractum_kernel_grain_strength_sized`, the same draw at beta = 2/w); a negative exponent
+/// is refused.
+#[test]
+fn strength_draws_are_the_librarys_with_and_without_a_size_exponent() {
+    let mut d = Draw::new(41);
+    for k in 0..20u64 {
+        let b = random_body(&mut d, k % 2 == 0);
+        let v = b.volume();
+        let (w, xm, beta) = (d.range(0.5, 4.0), d.range(1e-4, 5e-4), d.range(0.0, 3.0));
+        let (mut plain, mut sized, mut eq18) = (0.0, 0.0, 0.0);
+        let generation = (k % 4) as u32;
+        assert_eq!(
+            fractum_kernel_grain_strength(7, k + 1, generation, &c_body(&b), w, xm, &mut plain),
+            FRACTUM_OK
+        );
+        assert_eq!(
+            fractum_kernel_grain_strength_sized(
+                7,
+                k + 1,
+                generation,
+                &c_body(&b),
+                w,
+                beta,
+                xm,
+                &mut sized
+            ),
+            FRACTUM_OK
+        );
+        assert_eq!(
+            fractum_kernel_grain_strength_sized(
+                7,
+                k + 1,
+                generation,
+                &c_body(&b),
+                w,
+                2.0 / w,
+                xm,
+                &mut eq18
+            ),
+            FRACTUM_OK
+        );
+        let lib = fractum::fracture::grain_strength_sized(7, k + 1, generation, v, w, beta, xm);
+        assert_eq!(sized.to_bits(), lib.to_bits());
+        assert_eq!(
+            plain.to_bits(),
+            fractum::fracture::grain_strength(7, k + 1, generation, v, w, xm).to_bits()
+        );
+        assert_eq!(eq18.to_bits(), plain.to_bits());
+    }
+    let b = c_body(&random_body(&mut d, true));
+    let mut f = 0.0;
+    assert_eq!(
+        fractum_kernel_grain_strength_sized(7, 1, 0, &b, 2.0, -0.5, 1e-4, &mut f),
+        FRACTUM_ERR_INPUT
+    );
+}
+
+/// A piece below the law's comminution limit is never found failing, however it is loaded;
+/// one just above it fails as without the limit (the library's `below_comminution_limit` on
+/// its equivalent radius); a negative or infinite limit is refused.
+#[test]
+fn the_check_leaves_pieces_below_the_comminution_limit_whole() {
+    let law = FractumFractureLaw {
+        mi: 11.5,
+        sigma_c: 3.25e8,
+        sigma_f: 7.75e8,
+        poisson: 0.21,
+        critical_contacts: 3,
+        ideal_plane: 1,
+        plane_jitter: 0,
+        springs: 0,
+        gc: 0.0,
+        weibull_sigma_c: 0,
+        particle_strength: 0,
+        comminution_limit: 0.0,
+    };
+    let mut bodies = Bodies::default();
+    bodies.push_sphere(Vec3::zeros(), 1e-4, 2650.0, UnitQuaternion::identity());
+    let b = bodies.body(0);
+    let f = 2.0 * law.sigma_c * 2.0 * std::f64::consts::PI * b.radius * b.radius / 3.0;
+    let squeezed = squeeze(&b, Vec3::x(), f);
+    let kind = |limit: f64| {
+        let mut out = FractumTrigger::default();
+        let l = FractumFractureLaw {
+            comminution_limit: limit,
+            ..law
+        };
+        let s = fractum_kernel_check(
+            &l,
+            &c_body(&b),
+            1.0,
+            c_rows(&squeezed).as_ptr(),
+            [0.0; 3].as_ptr(),
+            0,
+            null(),
+            0.0,
+            &mut out,
+        );
+        (s, out.kind)
+    };
+    assert_eq!(kind(0.0), (FRACTUM_OK, 1));
+    assert_eq!(kind(1.01e-4), (FRACTUM_OK, 0));
+    assert_eq!(kind(0.99e-4), (FRACTUM_OK, 1));
+    assert_eq!(kind(-1e-4).0, FRACTUM_ERR_INPUT);
+    assert_eq!(kind(f64::INFINITY).0, FRACTUM_ERR_INPUT);
 }

@@ -304,6 +304,8 @@ fn fracture_law(springs: i32, ideal: bool, jitter: bool) -> FractumFractureLaw {
         springs,
         gc: 50.7,
         weibull_sigma_c: 0,
+        particle_strength: 0,
+        comminution_limit: 0.0,
     }
 }
 

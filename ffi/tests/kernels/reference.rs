@@ -94,19 +94,16 @@ pub fn law_params(l: &FractumFractureLaw) -> FractureParams {
         // (fractum_kernel_check's `strength`, "1 without Weibull statistics"), which a host
         // draws with fractum_kernel_grain_strength (its own modulus and reference size).
         weibull: None,
-        // The C law has no size exponent: fractum_kernel_grain_strength draws Eq. 18's size
-        // law itself. Nothing the kernels call reads it; NaN, as the kernels set it (their
-        // comment in ffi/src/kernels/convert.rs; docs/scenes.md: the plugin "has neither this
-        // reading, `size_exponent` nor `comminution_limit`, and refuses scenes that ask for
-        // them", checked by `fractum export lammps --plugin`).
+        // The C law has no size exponent: a host draws its factors with
+        // fractum_kernel_grain_strength_sized. Nothing the kernels call reads it.
         size_exponent: f64::NAN,
         // weibull_sigma_c: "Nonzero: ... scales sigma_c as well as sigma_f (`both`); 0:
-        // sigma_f only (`contact`)" -- there is no third, particle-strength reading, and
-        // fractum_kernel_check's critical contacts are those above `sigma_f * strength`.
+        // sigma_f only (`contact`)"; particle_strength: "Nonzero: ... the contact tensile
+        // strength with its cube root".
         weibull_sigma_c: l.weibull_sigma_c != 0,
-        particle_strength: false,
-        // No comminution limit in the C law (docs/scenes.md, above): every piece may split.
-        comminution_limit: 0.0,
+        particle_strength: l.particle_strength != 0,
+        // comminution_limit: "below which a piece no longer splits ... 0: none".
+        comminution_limit: l.comminution_limit,
         critical_contacts: count(l.critical_contacts),
         // springs: "0 without cohesion"; gc: "0 without cohesion"; fractum_kernel_split: "with
         // cohesion (`law->springs` > 0)"; fractum_kernel_bond: "none without cohesion

@@ -118,6 +118,7 @@ fn bulk_contact_sum_gives_the_per_side_bits() {
             gp.as_ptr(),
             poisson,
             sigma_f,
+            0,
             shares,
             loads,
         )
@@ -130,6 +131,51 @@ fn bulk_contact_sum_gives_the_per_side_bits() {
     assert_eq!(t2, t1);
     assert_eq!(shares2, shares1);
     assert_eq!(loads2, loads1);
+
+    // The particle-strength reading: critical above sigma_f times the factor's cube root.
+    let mut loads3 = vec![FractumGrainLoad::default(); atoms];
+    for &code in &sides {
+        let t = &touching[code as usize >> 1];
+        let as_j = code & 1 == 1;
+        let a = if as_j { t.j } else { t.i } as usize;
+        let force = if as_j { t.force.map(|v| -v) } else { t.force };
+        if grain[a][3] == 0.0 {
+            let s = fractum_kernel_grain_load_add(
+                &mut loads3[a],
+                centre[a].as_ptr(),
+                force.as_ptr(),
+                t.point.as_ptr(),
+                t.hertz_force,
+                t.radius,
+                poisson,
+                sigma_f * grain[a][0].cbrt(),
+            );
+            assert_eq!(s, FRACTUM_OK);
+        }
+    }
+    assert_ne!(
+        loads3, loads1,
+        "the cube root moves some contact across the threshold"
+    );
+    let mut loads4 = vec![FractumGrainLoad::default(); atoms];
+    let s = fractum_kernel_sum_contacts(
+        touching.as_ptr(),
+        touching.len(),
+        sides.as_ptr(),
+        sides.len(),
+        atoms,
+        fp.as_ptr(),
+        tp.as_ptr(),
+        cp.as_ptr(),
+        gp.as_ptr(),
+        poisson,
+        sigma_f,
+        1,
+        null_mut(),
+        loads4.as_mut_ptr(),
+    );
+    assert_eq!(s, FRACTUM_OK);
+    assert_eq!(loads4, loads3);
 
     // Without shares and loads: the forces alone.
     let f_before = f2.clone();

@@ -1,7 +1,6 @@
 //! The Fractum LAMMPS plugin: a data file that carries the grains' shapes, Fractum's first
 //! force evaluation (forces0.csv) and an input script of the plugin's pair and fixes.
 
-use crate::fracture::WeibullOn;
 use std::fmt::Write;
 
 use super::*;
@@ -139,17 +138,6 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         return Err(Error::input(
             &scene.source.label,
             "gravity is not exported to the Fractum LAMMPS plugin (use LAMMPS's fix gravity by hand)",
-        ));
-    }
-    let f = &plan.cfg.fracture;
-    if plan.has(EffectKind::Fracture)
-        && (f.size_exponent.is_some()
-            || f.comminution_limit.is_some()
-            || (plan.has(EffectKind::Weibull) && f.weibull_on == WeibullOn::Particle))
-    {
-        return Err(Error::input(
-            &scene.source.label,
-            "fracture.size_exponent, fracture.comminution_limit and fracture.weibull_on = \"particle\" are not in the Fractum LAMMPS plugin (its fix fractum/fracture draws Eq. 18's strengths and splits every piece): remove them to export",
         ));
     }
     let every = scene.output.every.max(1);
@@ -307,9 +295,17 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         );
         if let Some((w, xm)) = p.weibull {
             let _ = write!(line, " weibull {w:e} {xm:e}");
-            if p.weibull_sigma_c {
+            if p.particle_strength {
+                line.push_str(" weibull_on particle");
+            } else if p.weibull_sigma_c {
                 line.push_str(" weibull_on both");
             }
+            if plan.cfg.fracture.size_exponent.is_some() {
+                let _ = write!(line, " size_exponent {:e}", p.size_exponent);
+            }
+        }
+        if p.comminution_limit > 0.0 {
+            let _ = write!(line, " comminution_limit {:e}", p.comminution_limit);
         }
         let _ = writeln!(s, "{line}");
         // The cohesive springs between the halves (after the fracture fix, whose splits they
