@@ -150,7 +150,7 @@ int FixFractumFracture::setmask()
 void FixFractumFracture::arrays()
 {
   fractum_grain_arrays(lmp, STYLE, shape, quat, inertia, grain);
-  walls = fractum_array_if(lmp, "fr_walls");
+  walls = fractum_array_if(lmp, "fr_walls", &walls_cols);
   travel = fractum_array_if(lmp, "fr_travel");
 }
 
@@ -353,8 +353,9 @@ void FixFractumFracture::pre_exchange()
     grain[i][2] = generation + 1;
     grain[i][0] = draw_strength(d.tag, generation + 1, out.plus);
     grain[i][3] = 0.0;
+    // Every face's and the sleeve's held Hertz radius starts afresh for the new shape.
     if (walls)
-      for (int w = 0; w < 6; w++) walls[i][WALL_SLOT * w + 6] = 0.0;
+      for (int w = 0; w < walls_cols / WALL_SLOT; w++) walls[i][WALL_SLOT * w + 6] = 0.0;
     if (cohesion) cohesion->clear(i);
     m.grain[1] = grain[i][1];
     m.grain[2] = generation + 1;
@@ -466,7 +467,7 @@ void FixFractumFracture::pre_exchange()
       // left): the half starts with no springs and no face contacts.
       if (cohesion) cohesion->clear(i);
       if (walls)
-        for (int s = 0; s < 6 * WALL_SLOT; s++) walls[i][s] = 0.0;
+        for (int s = 0; s < walls_cols; s++) walls[i][s] = 0.0;
       // Its travel starts at 0: any start would do for the skip (its pairs are new), but a
       // stale one would differ with the rank count, and a large one would eat the margins.
       if (travel) travel[i][0] = 0.0;

@@ -70,6 +70,7 @@ class FixFractumFracture : public Fix {
   double counts[4] = {0, 0, 0, 0};    // splits, grains broken, by Hoek-Brown, by contacts
   double **shape = nullptr, **quat = nullptr, **inertia = nullptr, **grain = nullptr;
   double **walls = nullptr, **travel = nullptr;
+  int walls_cols = 0;    // the faces' histories (42 columns), and the sleeve's (49)
 
   void arrays();
   double draw_strength(tagint tag, int generation, const FractumBody &b);
