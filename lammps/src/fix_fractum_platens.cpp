@@ -197,25 +197,16 @@ void FixFractumPlatens::post_force(int)
   FractumPairMemory scratch;
   FractumContact out;
   double **f = atom->f, **torque = atom->torque;
-  double **x = atom->x, *radius = atom->radius;
+  double **x = atom->x;
   if (near_stale()) near_atoms(walls);
   for (const int i : near) {
     bool placed = false;
     for (int w = 0; w < FACES; w++) {
       if (!active[w]) continue;
+      if (!reaches(walls, i, w)) continue;
       // hist (3), unused (3), held radius: the pair memory layout, kept as the pair keeps its.
       FractumPairMemory *stored =
           walls ? reinterpret_cast<FractumPairMemory *>(&walls[i][WALL_SLOT * w]) : nullptr;
-      // An atom whose bounding sphere is clear of the face by more than round-off, with
-      // nothing remembered of it: the kernel would find no contact and change nothing (its
-      // own test is this one without the margin).
-      const double clear = (x[i][0] - point[w][0]) * normal[w][0] +
-          (x[i][1] - point[w][1]) * normal[w][1] + (x[i][2] - point[w][2]) * normal[w][2];
-      if (clear >= radius[i] * (1.0 + 1e-9) &&
-          (!stored ||
-           (stored->hist[0] == 0.0 && stored->hist[1] == 0.0 && stored->hist[2] == 0.0 &&
-            stored->radius == 0.0)))
-        continue;
       if (!placed) {
         fractum_body(atom, shape, quat, inertia, i, b);
         placed = true;
@@ -238,7 +229,7 @@ void FixFractumPlatens::post_force(int)
                        poisson, grain[i][0]);
     }
     // The sleeve after the faces, as Fractum adds its walls' contacts.
-    if (sleeve && sleeve_near(i, walls)) {
+    if (sleeve && reaches(walls, i, FACES)) {
       if (!placed) fractum_body(atom, shape, quat, inertia, i, b);
       sleeve_contact(i, walls, b, frequency_due, keep_memory, update_history, grain);
     }
@@ -246,18 +237,34 @@ void FixFractumPlatens::post_force(int)
   reduced_at = -1;
 }
 
-/* Whether atom i's bounding sphere reaches the sleeve (by more than round-off) or its memory
-   holds a contact: else the kernel would find no contact and change nothing. */
-bool FixFractumPlatens::sleeve_near(int i, double **walls) const
+/* How far atom i's centre is from surface w (a face, or with w = FACES the sleeve), measured
+   into the box (m). */
+double FixFractumPlatens::clearance(int i, int w) const
 {
-  const double dx = atom->x[i][0] - sleeve_centre[0], dy = atom->x[i][1] - sleeve_centre[1];
-  const double clear = sleeve_radius - std::sqrt(dx * dx + dy * dy);
-  if (clear < atom->radius[i] * (1.0 + 1e-9)) return true;
-  const auto *stored =
-      walls ? reinterpret_cast<const FractumPairMemory *>(&walls[i][WALL_SLOT * FACES]) : nullptr;
-  return stored &&
-      (stored->hist[0] != 0.0 || stored->hist[1] != 0.0 || stored->hist[2] != 0.0 ||
-       stored->radius != 0.0);
+  const double *x = atom->x[i];
+  if (w == FACES) {
+    const double dx = x[0] - sleeve_centre[0], dy = x[1] - sleeve_centre[1];
+    return sleeve_radius - std::sqrt(dx * dx + dy * dy);
+  }
+  return (x[0] - point[w][0]) * normal[w][0] + (x[1] - point[w][1]) * normal[w][1] +
+      (x[2] - point[w][2]) * normal[w][2];
+}
+
+/* Whether atom i's contact history with surface w (hist (3), unused (3), held radius: the pair
+   memory layout) holds anything. */
+static bool remembers(double **walls, int i, int w)
+{
+  if (!walls) return false;
+  const auto *m = reinterpret_cast<const FractumPairMemory *>(&walls[i][WALL_SLOT * w]);
+  return m->hist[0] != 0.0 || m->hist[1] != 0.0 || m->hist[2] != 0.0 || m->radius != 0.0;
+}
+
+/* Whether atom i's bounding sphere reaches surface w (by more than round-off) or its memory
+   holds a contact: else the kernel would find no contact and change nothing (its own test is
+   this one without the margin). */
+bool FixFractumPlatens::reaches(double **walls, int i, int w) const
+{
+  return clearance(i, w) < atom->radius[i] * (1.0 + 1e-9) || remembers(walls, i, w);
 }
 
 /* Atom i's contact with the sleeve (b its body): its force, torque, energy, frequency share and
@@ -325,34 +332,16 @@ bool FixFractumPlatens::near_stale() const
 void FixFractumPlatens::near_atoms(double **walls)
 {
   near.clear();
-  double **x = atom->x, *radius = atom->radius;
   const double reach = 2.0 * neighbor->skin;
+  const int surfaces = FACES + (sleeve ? 1 : 0);
   for (int i = 0; i < atom->nlocal; i++) {
     if (!(atom->mask[i] & groupbit)) continue;
-    for (int w = 0; w < FACES; w++) {
-      if (!active[w]) continue;
-      const double clear = (x[i][0] - point[w][0]) * normal[w][0] +
-          (x[i][1] - point[w][1]) * normal[w][1] + (x[i][2] - point[w][2]) * normal[w][2];
-      const auto *stored =
-          walls ? reinterpret_cast<const FractumPairMemory *>(&walls[i][WALL_SLOT * w]) : nullptr;
-      const bool remembers = stored &&
-          (stored->hist[0] != 0.0 || stored->hist[1] != 0.0 || stored->hist[2] != 0.0 ||
-           stored->radius != 0.0);
-      if (clear < radius[i] + reach || remembers) {
+    for (int w = 0; w < surfaces; w++) {
+      if (w < FACES && !active[w]) continue;
+      if (clearance(i, w) < atom->radius[i] + reach || remembers(walls, i, w)) {
         near.push_back(i);
         break;
       }
-    }
-    if (sleeve && (near.empty() || near.back() != i)) {
-      const double dx = x[i][0] - sleeve_centre[0], dy = x[i][1] - sleeve_centre[1];
-      const double clear = sleeve_radius - std::sqrt(dx * dx + dy * dy);
-      const auto *stored = walls ? reinterpret_cast<const FractumPairMemory *>(
-                                       &walls[i][WALL_SLOT * FACES])
-                                 : nullptr;
-      const bool remembers = stored &&
-          (stored->hist[0] != 0.0 || stored->hist[1] != 0.0 || stored->hist[2] != 0.0 ||
-           stored->radius != 0.0);
-      if (clear < radius[i] + reach || remembers) near.push_back(i);
     }
   }
   for (int w = 0; w < FACES; w++)

@@ -77,7 +77,8 @@ class FixFractumPlatens : public Fix {
   void speeds();
   void sleeve_contact(int i, double **walls, const FractumBody &b, bool frequency_due,
                       bool keep_memory, int update_history, double **grain);
-  bool sleeve_near(int i, double **walls) const;
+  double clearance(int i, int w) const;
+  bool reaches(double **walls, int i, int w) const;
   bool near_stale() const;
   void near_atoms(double **walls);
 };

@@ -482,18 +482,18 @@ pub extern "C" fn fractum_kernel_pair_row(
         let skip = !travel.is_null() && shapes != 0;
         input_if(stride < 7 || (skip && stride < 8))?;
         let stride = stride as usize;
-        let bodies = slice_in(bodies, nb)?;
-        let keys = slice_in(keys, nb)?;
-        let places = if shapes != 0 {
-            Some(slice_in(places, nb)?)
-        } else {
-            None
-        };
-        let travel = if skip {
-            Some(slice_in(travel, nb)?)
-        } else {
-            None
-        };
+        let k = consts(law);
+        let row = Row::of(
+            law,
+            &k,
+            (bodies, places, keys, travel),
+            nb,
+            index_mask,
+            stride,
+            dt,
+            update,
+            shapes,
+        )?;
         let partners = slice_in(partners, n)?;
         let memory = slice_mut(memory, n * stride)?;
         let out = slice_mut(out, n)?;
@@ -503,21 +503,7 @@ pub extern "C" fn fractum_kernel_pair_row(
         } else {
             Some(slice_mut(kept, n)?)
         };
-        let k = consts(law);
         let mut count = 0;
-        let row = Row {
-            law,
-            k: &k,
-            bodies,
-            places,
-            keys,
-            travel,
-            index_mask,
-            stride,
-            dt,
-            update: update != 0,
-            shapes: shapes != 0,
-        };
         row.contacts(i as usize, partners, memory, kept, |jj, p| {
             out[count] = contact_out(Some(p));
             at[count] = jj as i32;
@@ -581,21 +567,21 @@ pub extern "C" fn fractum_kernel_pair_list(
         *n_sides = 0;
         input_if(n_bodies < 0 || n_local < 0 || n_local > n_bodies || list.inum < 0)?;
         let (nb, nl) = (n_bodies as usize, n_local as usize);
-        let skip = !travel.is_null() && shapes != 0;
         input_if(list.stride < 8)?;
         let stride = list.stride as usize;
-        let bodies = slice_in(bodies, nb)?;
-        let keys = slice_in(keys, nb)?;
-        let places = if shapes != 0 {
-            Some(slice_in(places, nb)?)
-        } else {
-            None
-        };
-        let travel = if skip {
-            Some(slice_in(travel, nb)?)
-        } else {
-            None
-        };
+        let k = consts(law);
+        let row = Row::of(
+            law,
+            &k,
+            (bodies, places, keys, travel),
+            nb,
+            list.index_mask,
+            stride,
+            dt,
+            update,
+            shapes,
+        )?;
+        let (bodies, keys) = (row.bodies, row.keys);
         let reshaped = slice_in(reshaped, n_reshaped)?;
         let out = slice_mut(touching, capacity)?;
         let codes = slice_mut(sides, 2 * capacity)?;
@@ -612,20 +598,6 @@ pub extern "C" fn fractum_kernel_pair_list(
             )
         } else {
             (&[][..], &[][..])
-        };
-        let k = consts(law);
-        let row = Row {
-            law,
-            k: &k,
-            bodies,
-            places,
-            keys,
-            travel,
-            index_mask: list.index_mask,
-            stride,
-            dt,
-            update: update != 0,
-            shapes: shapes != 0,
         };
         let was_reshaped = |key: i64| !reshaped.is_empty() && reshaped.binary_search(&key).is_ok();
         // Each side: its atom, its partner's key and its code, in the rows' order.
@@ -795,7 +767,50 @@ struct Row<'a> {
     shapes: bool,
 }
 
-impl Row<'_> {
+impl<'a> Row<'a> {
+    /// A host's tables of `n` bodies, their placements (read with `shapes`), keys and travels
+    /// (read with `shapes`, where given: the separated pairs' skip).
+    #[allow(clippy::too_many_arguments, clippy::type_complexity)]
+    fn of(
+        law: &'a FractumContactLaw,
+        k: &'a KernelConsts,
+        (bodies, places, keys, travel): (
+            *const FractumBody,
+            *const FractumPlacement,
+            *const i64,
+            *const f64,
+        ),
+        n: usize,
+        index_mask: i32,
+        stride: usize,
+        dt: f64,
+        update: i32,
+        shapes: i32,
+    ) -> Result<Self, FractumStatus> {
+        let skip = !travel.is_null() && shapes != 0;
+        Ok(Row {
+            law,
+            k,
+            bodies: slice_in(bodies, n)?,
+            places: if shapes != 0 {
+                Some(slice_in(places, n)?)
+            } else {
+                None
+            },
+            keys: slice_in(keys, n)?,
+            travel: if skip {
+                Some(slice_in(travel, n)?)
+            } else {
+                None
+            },
+            index_mask,
+            stride,
+            dt,
+            update: update != 0,
+            shapes: shapes != 0,
+        })
+    }
+
     /// Body `i`'s contacts with each of `partners` (`& index_mask`), their records in
     /// `memory` (`stride` doubles each, updated), `kept[jj]` set where a record holds
     /// anything; `touching(jj, contact)` for each pair that touches, in the partners' order.

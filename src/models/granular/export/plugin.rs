@@ -215,17 +215,17 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
          timestep        {:.17e}\nfix             integrate all fractum/nve/polyell",
         plan.dt
     );
-    let mut faces = String::new();
+    // Each face's position and, where it is driven, its speed: the loading's at the start
+    // (constant for the oedometer and the platens). With a sleeve the side faces touch nothing
+    // (Walls::touches): the plugin leaves them out.
+    let (mut faces, mut drive) = (String::new(), String::new());
     let mut present = Vec::new();
-    // With a sleeve the side faces touch nothing (Walls::touches): the plugin leaves them out.
-    let touching = |k: usize| st.walls.touches(k);
-    for w in st
+    for (_, w) in st
         .walls
         .walls
         .iter()
         .enumerate()
-        .filter(|(k, _)| touching(*k))
-        .map(|(_, w)| w)
+        .filter(|(k, _)| st.walls.touches(*k))
     {
         let Some((face, pos)) = plugin_face(&w.normal, &w.point) else {
             return Err(Error::input(
@@ -238,19 +238,6 @@ pub fn plugin_input(sim: &Simulation, data_file: &str, series_file: &str) -> Res
         };
         let _ = write!(faces, " {} {pos:.17e}", PLUGIN_FACES[face]);
         present.push(face);
-    }
-    // The driven faces: the loading's speeds at the start (constant for the oedometer and the
-    // platens).
-    let mut drive = String::new();
-    for w in st
-        .walls
-        .walls
-        .iter()
-        .enumerate()
-        .filter(|(k, _)| touching(*k))
-        .map(|(_, w)| w)
-    {
-        let (face, _) = plugin_face(&w.normal, &w.point).expect("checked above");
         let speed = match plan.loading.as_loading().top_speed() {
             Some(down) if face == 5 => -down,
             _ => w.velocity[face / 2],
